@@ -1,0 +1,13 @@
+# Every dependency is a Debian package (scripts/install-deps.sh installs them).
+find_package(embree 3 REQUIRED)
+find_package(TBB REQUIRED)
+find_package(OpenImageIO REQUIRED)
+find_package(fmt REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json REQUIRED)
+if(STERADIAN_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(STERADIAN_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,10 @@
+add_library(steradian_warnings INTERFACE)
+target_compile_options(steradian_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow)
+if(STERADIAN_WERROR)
+  target_compile_options(steradian_warnings INTERFACE -Werror)
+endif()
+if(STERADIAN_SANITIZE)
+  target_compile_options(steradian_warnings INTERFACE -fsanitize=address,undefined
+                         -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  target_link_options(steradian_warnings INTERFACE -fsanitize=address,undefined)
+endif()
