@@ -1,0 +1,57 @@
+#pragma once
+/// Load-time errors with a source location, and render-time CHECKs.
+#include <fmt/format.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace sr {
+
+/// A position in an input file: 1-based line and column. An empty file means "no location".
+struct SourceLoc {
+    std::string file;
+    int line = 0;
+    int column = 0;
+    std::string to_string() const {
+        if (file.empty()) return "<unknown>";
+        return fmt::format("{}:{}:{}", file, line, column);
+    }
+};
+
+/// A user-facing error (bad input file, bad parameter, unsupported feature). what() is the
+/// whole message, prefixed by the location when there is one.
+class Error : public std::runtime_error {
+public:
+    explicit Error(const std::string& msg) : std::runtime_error(msg) {}
+    Error(const SourceLoc& loc, const std::string& msg)
+        : std::runtime_error(loc.file.empty() ? msg : loc.to_string() + ": " + msg),
+          m_loc(loc),
+          m_message(msg) {}
+    const SourceLoc& loc() const { return m_loc; }
+    /// The message without the location prefix.
+    const std::string& message() const { return m_message; }
+
+private:
+    SourceLoc m_loc;
+    std::string m_message;
+};
+
+template <typename... Args>
+[[noreturn]] void throw_error(const SourceLoc& loc, fmt::format_string<Args...> f, Args&&... args) {
+    throw Error(loc, fmt::format(f, std::forward<Args>(args)...));
+}
+
+/// Warning sink: printed to stderr once each unless silenced (tests may redirect it).
+void warning(const SourceLoc& loc, const std::string& msg);
+void set_warnings_quiet(bool quiet);
+
+[[noreturn]] void check_failed(const char* file, int line, const char* expr);
+
+}  // namespace sr
+
+#define SR_CHECK(x) ((x) ? (void)0 : ::sr::check_failed(__FILE__, __LINE__, #x))
+#ifndef NDEBUG
+#define SR_DCHECK(x) SR_CHECK(x)
+#else
+#define SR_DCHECK(x) ((void)0)
+#endif

@@ -1,0 +1,151 @@
+#pragma once
+/// Spectral samples carried along a path: N = 4 wavelengths (a hero wavelength plus
+/// equally spaced rotations), importance-sampled over the visible range, and the values of
+/// a spectral quantity at those wavelengths.
+#include <array>
+#include <cmath>
+
+#include "steradian/core/math.h"
+
+namespace sr {
+
+inline constexpr int kSpectrumSamples = 4;
+inline constexpr Float kLambdaMin = 360;  ///< nm, lower end of the tabulated range
+inline constexpr Float kLambdaMax = 830;  ///< nm, upper end of the tabulated range
+
+/// Values of a spectral quantity at the path's wavelengths.
+struct SampledSpectrum {
+    std::array<Float, kSpectrumSamples> v{};
+
+    SampledSpectrum() = default;
+    explicit SampledSpectrum(Float c) { v.fill(c); }
+    Float operator[](int i) const { return v[i]; }
+    Float& operator[](int i) { return v[i]; }
+
+#define SR_SS_OP(op)                                                                   \
+    SampledSpectrum operator op(const SampledSpectrum& o) const {                      \
+        SampledSpectrum r;                                                             \
+        for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = v[i] op o.v[i];            \
+        return r;                                                                      \
+    }                                                                                  \
+    SampledSpectrum& operator op##=(const SampledSpectrum& o) {                        \
+        for (int i = 0; i < kSpectrumSamples; ++i) v[i] op## = o.v[i];                 \
+        return *this;                                                                  \
+    }                                                                                  \
+    SampledSpectrum operator op(Float s) const {                                       \
+        SampledSpectrum r;                                                             \
+        for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = v[i] op s;                 \
+        return r;                                                                      \
+    }                                                                                  \
+    SampledSpectrum& operator op##=(Float s) {                                         \
+        for (int i = 0; i < kSpectrumSamples; ++i) v[i] op## = s;                      \
+        return *this;                                                                  \
+    }
+    SR_SS_OP(+)
+    SR_SS_OP(-)
+    SR_SS_OP(*)
+#undef SR_SS_OP
+    SampledSpectrum operator/(Float s) const { return *this * (1 / s); }
+    SampledSpectrum& operator/=(Float s) { return *this *= (1 / s); }
+    /// Component-wise division; 0 where the divisor is 0.
+    SampledSpectrum safe_div(const SampledSpectrum& o) const {
+        SampledSpectrum r;
+        for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = o.v[i] != 0 ? v[i] / o.v[i] : 0;
+        return r;
+    }
+    bool is_zero() const {
+        for (Float x : v)
+            if (x != 0) return false;
+        return true;
+    }
+    explicit operator bool() const { return !is_zero(); }
+    Float max_value() const {
+        Float m = v[0];
+        for (int i = 1; i < kSpectrumSamples; ++i) m = std::max(m, v[i]);
+        return m;
+    }
+    Float min_value() const {
+        Float m = v[0];
+        for (int i = 1; i < kSpectrumSamples; ++i) m = std::min(m, v[i]);
+        return m;
+    }
+    Float average() const {
+        Float s = 0;
+        for (Float x : v) s += x;
+        return s / kSpectrumSamples;
+    }
+    bool has_nonfinite() const {
+        for (Float x : v)
+            if (!std::isfinite(x)) return true;
+        return false;
+    }
+};
+inline SampledSpectrum operator*(Float s, const SampledSpectrum& a) { return a * s; }
+inline SampledSpectrum exp(const SampledSpectrum& a) {
+    SampledSpectrum r;
+    for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = std::exp(a.v[i]);
+    return r;
+}
+
+/// pdf of the visible-wavelength importance distribution, p(l) proportional to
+/// 1/cosh^2(0.0072 (l - 538)) on [360, 830] nm (the sampling density pbrt-v4 uses;
+/// Radziszewski et al. 2009 proposed this family). Zero outside the range.
+inline Float visible_wavelengths_pdf(Float lambda) {
+    if (lambda < kLambdaMin || lambda > kLambdaMax) return 0;
+    return Float(0.0039398042) / sqr(std::cosh(Float(0.0072) * (lambda - 538)));
+}
+/// Inverse-CDF sample of visible_wavelengths_pdf for u in [0, 1).
+inline Float sample_visible_wavelengths(Float u) {
+    return 538 - Float(138.888889) * std::atanh(Float(0.85691062) - Float(1.82750197) * u);
+}
+
+/// The wavelengths of one path and their sampling pdfs.
+struct SampledWavelengths {
+    std::array<Float, kSpectrumSamples> lambda{};
+    std::array<Float, kSpectrumSamples> pdf{};
+
+    /// Hero wavelength from u, the others rotated by multiples of 1/N in primary sample
+    /// space, so each is marginally distributed by visible_wavelengths_pdf.
+    static SampledWavelengths sample_visible(Float u) {
+        SampledWavelengths w;
+        for (int i = 0; i < kSpectrumSamples; ++i) {
+            Float up = u + Float(i) / kSpectrumSamples;
+            if (up > 1) up -= 1;
+            w.lambda[i] = sample_visible_wavelengths(up);
+            w.pdf[i] = visible_wavelengths_pdf(w.lambda[i]);
+        }
+        return w;
+    }
+    /// Uniform over [lmin, lmax], hero plus rotations (used by tests and meters).
+    static SampledWavelengths sample_uniform(Float u, Float lmin = kLambdaMin,
+                                             Float lmax = kLambdaMax) {
+        SampledWavelengths w;
+        for (int i = 0; i < kSpectrumSamples; ++i) {
+            Float up = u + Float(i) / kSpectrumSamples;
+            if (up > 1) up -= 1;
+            w.lambda[i] = lerp(up, lmin, lmax);
+            w.pdf[i] = 1 / (lmax - lmin);
+        }
+        return w;
+    }
+    Float operator[](int i) const { return lambda[i]; }
+    /// Keeps only the hero wavelength (after a dispersive event): the others get pdf 0 and
+    /// the hero's pdf is divided by N so the estimator stays unbiased.
+    void terminate_secondary() {
+        if (secondary_terminated()) return;
+        for (int i = 1; i < kSpectrumSamples; ++i) pdf[i] = 0;
+        pdf[0] /= kSpectrumSamples;
+    }
+    bool secondary_terminated() const {
+        for (int i = 1; i < kSpectrumSamples; ++i)
+            if (pdf[i] != 0) return false;
+        return true;
+    }
+    SampledSpectrum pdf_spectrum() const {
+        SampledSpectrum r;
+        for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = pdf[i];
+        return r;
+    }
+};
+
+}  // namespace sr
