@@ -26,6 +26,8 @@ struct CameraDesc : EntityDesc {
 
 /// A reference to a material: an anonymous one by index, or a named one by name (resolved
 /// by the builder, so MakeNamedMaterial may come after NamedMaterial as in pbrt-v4).
+/// Neither (index < 0, empty name): no Material/NamedMaterial directive was in effect, so
+/// pbrt-v4's default material applies ("diffuse" with default parameters).
 struct MaterialRef {
     int index = -1;    ///< into SceneDesc::materials, if >= 0
     std::string name;  ///< named material, if index < 0 and non-empty
@@ -39,33 +41,45 @@ struct MaterialDesc : EntityDesc {
 
 struct TextureDesc : EntityDesc {
     std::string name;
-    std::string value_type;  ///< "float" or "spectrum"
-    Transform world_from_texture;
+    std::string value_type;  ///< "float" or "spectrum"; each has its own name space
+    Transform world_from_texture;  ///< CTM at the Texture directive
 };
 
 struct LightDesc : EntityDesc {
-    Transform world_from_light;
+    Transform world_from_light;  ///< CTM at the LightSource directive
 };
 
+/// One per AreaLightSource directive; every shape created while it is in effect refers to
+/// it (pbrt-v4 creates one light per shape from these same parameters).
 struct AreaLightDesc : EntityDesc {};
 
 struct ShapeDesc : EntityDesc {
+    /// CTM at the Shape directive. Inside ObjectBegin/ObjectEnd this is still the full CTM
+    /// (including whatever was in effect at ObjectBegin), as in pbrt-v4.
     Transform world_from_object;
+    /// ReverseOrientation state; the builder combines it with
+    /// world_from_object.swaps_handedness() as pbrt-v4 does.
     bool reverse_orientation = false;
     MaterialRef material;
     int area_light = -1;  ///< into SceneDesc::area_lights, or -1
 };
 
-/// ObjectBegin ... ObjectEnd: shapes in the instance's own space.
+/// ObjectBegin ... ObjectEnd: the shapes of an object, each with the full CTM that was in
+/// effect at its Shape directive as world_from_object. pbrt-v4 semantics (scene.cpp): an
+/// ObjectInstance places the object with CTM_use * CTM_shape, i.e. world-space points are
+/// use.world_from_instance * shape.world_from_object * p_object. The CTM at ObjectBegin is
+/// not factored out. Area lights are not instanced (pbrt-v4 ignores them with a warning, so
+/// shapes here always have area_light == -1).
 struct InstanceDefinition {
     std::string name;
     std::vector<ShapeDesc> shapes;
     SourceLoc loc;
 };
 
+/// ObjectInstance "name": may precede the definition (resolved at the end of parsing).
 struct InstanceUse {
     std::string name;
-    Transform world_from_instance;
+    Transform world_from_instance;  ///< CTM at the ObjectInstance directive
     SourceLoc loc;
 };
 
@@ -77,7 +91,12 @@ struct SceneDesc {
     EntityDesc integrator;
     EntityDesc filter;
     EntityDesc accelerator;
-    std::vector<EntityDesc> color_spaces;  ///< ColorSpace directives (only "srgb" is supported)
+    std::vector<EntityDesc> color_spaces;  ///< ColorSpace directives (only "srgb" is supported);
+                                           ///< type = the colour space name
+    /// Option directives, one parameter each, named as pbrt-v4 normalises them (lower case,
+    /// without '-' and '_'): quoted values are String, true/false Bool, numbers Float
+    /// ("seed": Integer). A later Option of the same name replaces an earlier one.
+    ParamSet options;
 
     // World block.
     std::vector<MaterialDesc> materials;             ///< anonymous and named

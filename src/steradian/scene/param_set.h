@@ -14,10 +14,19 @@ namespace sr {
 
 /// The parameter types of the pbrt-v4 format. Readers normalise synonyms
 /// ("point" -> Point3, "vector" -> Vector3, "normal" -> Normal3, "color" -> Rgb).
+// GCC's -Wshadow flags scoped enumerators that share a name with a type alias (Float,
+// Point3, ...), although they cannot clash; silence that false positive here only.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#endif
 enum class ParamType {
     Integer, Float, Point2, Vector2, Point3, Vector3, Normal3, Bool, String, Texture,
     Spectrum, Rgb, Blackbody
 };
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 std::string_view to_string(ParamType t);
 
 struct Param {
@@ -68,7 +77,9 @@ public:
     /// A spectrum-valued parameter (Spectrum, Rgb or Blackbody) or nullptr; throws if the
     /// name is present with a non-spectral type.
     const Param* find_spectrum(std::string_view name) const;
-    /// The texture name of a "texture" parameter, if present.
+    /// The texture name of a "texture" parameter, if present. Empty (and the parameter not
+    /// marked used) when it is absent or has another type, so callers may look for a texture
+    /// first and then for a value of the same name; throws unless it has exactly one name.
     std::optional<std::string> find_texture(std::string_view name) const;
 
     /// Throws sr::Error at the first parameter nobody looked up:
