@@ -1,0 +1,332 @@
+#include "steradian/accel/accel.h"
+
+#include <embree3/rtcore.h>
+
+#include <vector>
+
+#include "steradian/core/error.h"
+#include "steradian/scene/scene.h"
+
+namespace sr {
+
+namespace {
+
+/// User-geometry payload for exact spheres and disks.
+struct UserShape {
+    const Sphere* sphere = nullptr;
+    const Disk* disk = nullptr;
+    unsigned geom_id = 0;
+};
+
+const Transform& object_transform(const UserShape& u) {
+    return u.sphere ? u.sphere->world_from_object : u.disk->world_from_object;
+}
+
+void user_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* us = static_cast<const UserShape*>(args->geometryUserPtr);
+    Bounds3 ob;
+    if (us->sphere) {
+        Float r = us->sphere->radius;
+        ob.expand(Point3(-r, -r, us->sphere->z_min));
+        ob.expand(Point3(r, r, us->sphere->z_max));
+    } else {
+        Float r = us->disk->radius;
+        ob.expand(Point3(-r, -r, us->disk->height));
+        ob.expand(Point3(r, r, us->disk->height));
+    }
+    const Transform& t = object_transform(*us);
+    Bounds3 wb;
+    for (int i = 0; i < 8; ++i) {
+        Point3 c((i & 1) ? ob.hi.x : ob.lo.x, (i & 2) ? ob.hi.y : ob.lo.y,
+                 (i & 4) ? ob.hi.z : ob.lo.z);
+        wb.expand(t.point(c));
+    }
+    // Pad for float rounding of the transformed corners.
+    Vec3 pad = (wb.hi - wb.lo) * Float(1e-5) + Vec3(1e-6f, 1e-6f, 1e-6f);
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = wb.lo.x - pad.x;
+    b->lower_y = wb.lo.y - pad.y;
+    b->lower_z = wb.lo.z - pad.z;
+    b->upper_x = wb.hi.x + pad.x;
+    b->upper_y = wb.hi.y + pad.y;
+    b->upper_z = wb.hi.z + pad.z;
+}
+
+bool user_hit(const UserShape& us, Point3 o, Vec3 d, Float tnear, Float tfar, Float& t) {
+    const Transform& x = object_transform(us);
+    const Matrix4& inv = x.inverse_matrix();
+    Transform obj_from(inv, x.matrix());
+    Point3 oo = obj_from.point(o);
+    Vec3 od = obj_from.vector(d);
+    Point3 ph;
+    Float th;
+    bool hit = us.sphere ? us.sphere->intersect_object(oo, od, tfar, th, ph)
+                         : us.disk->intersect_object(oo, od, tfar, th, ph);
+    if (!hit || th <= tnear) return false;
+    t = th;
+    return true;
+}
+
+void user_intersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* us = static_cast<const UserShape*>(args->geometryUserPtr);
+    RTCRayHitN* rh = args->rayhit;
+    RTCRayN* ray = RTCRayHitN_RayN(rh, args->N);
+    RTCHitN* hit = RTCRayHitN_HitN(rh, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        Point3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
+                 RTCRayN_org_z(ray, args->N, i));
+        Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
+               RTCRayN_dir_z(ray, args->N, i));
+        Float t;
+        if (!user_hit(*us, o, d, RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t))
+            continue;
+        RTCRayN_tfar(ray, args->N, i) = t;
+        RTCHitN_Ng_x(hit, args->N, i) = 0;
+        RTCHitN_Ng_y(hit, args->N, i) = 0;
+        RTCHitN_Ng_z(hit, args->N, i) = 1;
+        RTCHitN_u(hit, args->N, i) = 0;
+        RTCHitN_v(hit, args->N, i) = 0;
+        RTCHitN_primID(hit, args->N, i) = args->primID;
+        RTCHitN_geomID(hit, args->N, i) = us->geom_id;
+        RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];
+    }
+}
+
+void user_occluded(const RTCOccludedFunctionNArguments* args) {
+    const auto* us = static_cast<const UserShape*>(args->geometryUserPtr);
+    RTCRayN* ray = args->ray;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        Point3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
+                 RTCRayN_org_z(ray, args->N, i));
+        Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
+               RTCRayN_dir_z(ray, args->N, i));
+        Float t;
+        if (user_hit(*us, o, d, RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t))
+            RTCRayN_tfar(ray, args->N, i) = -kInfinity;
+    }
+}
+
+void error_callback(void*, RTCError code, const char* str) {
+    if (code == RTC_ERROR_NONE) return;
+    std::fprintf(stderr, "embree error %d: %s\n", int(code), str ? str : "");
+}
+
+}  // namespace
+
+struct Accel::Impl {
+    // Heap buffers of the scene's vectors: stable when the Scene object itself is moved.
+    const ShapeEntry* shapes = nullptr;
+    const Instance* instances = nullptr;
+    RTCDevice device = nullptr;
+    RTCScene top = nullptr;
+    std::vector<RTCScene> proto_scenes;
+    std::vector<int> top_geom_shape;                  ///< geomID -> shape (or -1: instance)
+    std::vector<int> top_geom_instance;               ///< geomID -> instance (or -1)
+    std::vector<std::vector<int>> proto_geom_shape;   ///< per prototype: geomID -> shape
+    std::vector<int> inst_geom_to_instance;           ///< top geomID -> instance
+    std::vector<std::unique_ptr<UserShape>> user_shapes;
+
+    unsigned attach_shape(RTCScene s, int shape_index) {
+        const ShapeEntry& e = shapes[shape_index];
+        RTCGeometry g = nullptr;
+        UserShape* user = nullptr;
+        if (const auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
+            g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                       mesh->p->data(), 0, sizeof(Point3), mesh->num_vertices());
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                       mesh->indices->data(), 0, 3 * sizeof(uint32_t),
+                                       mesh->num_triangles());
+        } else {
+            auto us = std::make_unique<UserShape>();
+            us->sphere = std::get_if<Sphere>(&e.geometry);
+            us->disk = std::get_if<Disk>(&e.geometry);
+            g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(g, 1);
+            rtcSetGeometryUserData(g, us.get());
+            rtcSetGeometryBoundsFunction(g, user_bounds, nullptr);
+            rtcSetGeometryIntersectFunction(g, user_intersect);
+            rtcSetGeometryOccludedFunction(g, user_occluded);
+            user = us.get();
+            user_shapes.push_back(std::move(us));
+        }
+        rtcCommitGeometry(g);
+        unsigned id = rtcAttachGeometry(s, g);
+        rtcReleaseGeometry(g);
+        if (user) user->geom_id = id;  // callbacks run only after the scene is committed
+        return id;
+    }
+
+    void fill(const RTCRayHit& rh, const Ray& ray, SurfaceHit& h) const {
+        int shape;
+        const Instance* inst = nullptr;
+        if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+            int ii = inst_geom_to_instance[rh.hit.instID[0]];
+            inst = &instances[ii];
+            shape = proto_geom_shape[inst->prototype][rh.hit.geomID];
+        } else {
+            shape = top_geom_shape[rh.hit.geomID];
+        }
+        const ShapeEntry& e = shapes[shape];
+        h.t = rh.ray.tfar;
+        h.shape = shape;
+        h.prim = rh.hit.primID;
+        h.material = e.material;
+        h.light = -1;
+        // Position in the space the shape lives in (world, or the prototype's space).
+        Ray r = ray;
+        if (inst) {
+            Transform inv = inst->world_from_instance.inverse();
+            r.o = inv.point(ray.o);
+            r.d = inv.vector(ray.d);
+        }
+        if (const auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
+            mesh->fill_hit(h.prim, rh.hit.u, rh.hit.v, h);
+            if (e.light_offset >= 0) h.light = e.light_offset + int(h.prim);
+        } else {
+            Point3 p_local = r.o + r.d * h.t;
+            if (const auto* s = std::get_if<Sphere>(&e.geometry)) {
+                Point3 p_obj = s->world_from_object.inverse().point(p_local);
+                Float len = length(p_obj);
+                if (len > 0) p_obj = p_obj * (s->radius / len);
+                s->fill_hit(p_obj, h);
+            } else {
+                const Disk& d = std::get<Disk>(e.geometry);
+                Point3 p_obj = d.world_from_object.inverse().point(p_local);
+                p_obj.z = d.height;
+                d.fill_hit(p_obj, h);
+            }
+            if (e.light_offset >= 0) h.light = e.light_offset;
+        }
+        if (inst) {
+            const Transform& w = inst->world_from_instance;
+            Point3 p = w.point(h.p);
+            // Conservative error growth through the instance transform.
+            const auto& a = w.matrix().m;
+            Vec3 err;
+            for (int i = 0; i < 3; ++i) {
+                double ee = 0;
+                for (int j = 0; j < 3; ++j)
+                    ee += std::abs(a[i][j]) * (h.p_error[j] + gamma_bound(3) * std::abs(h.p[j]));
+                err[i] = Float(ee) + gamma_bound(3) * (std::abs(Float(a[i][3])) + std::abs(p[i]));
+            }
+            h.p = p;
+            h.p_error = err;
+            h.ng = normalize(w.normal(h.ng));
+            h.ns = normalize(w.normal(h.ns));
+            h.dpdu = w.vector(h.dpdu);
+        }
+        h.wo = -normalize(ray.d);
+    }
+};
+
+Accel::Accel(const Scene& scene) : m(std::make_unique<Impl>()) {
+    m->shapes = scene.shapes.data();
+    m->instances = scene.instances.data();
+    m->device = rtcNewDevice("verbose=0");
+    if (!m->device) throw Error("could not create the Embree device");
+    rtcSetDeviceErrorFunction(m->device, error_callback, nullptr);
+
+    // Prototypes first: each its own Embree scene, instanced below.
+    for (const Prototype& proto : scene.prototypes) {
+        RTCScene ps = rtcNewScene(m->device);
+        rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
+        std::vector<int> map;
+        for (int si : proto.shapes) {
+            unsigned id = m->attach_shape(ps, si);
+            if (map.size() <= id) map.resize(id + 1, -1);
+            map[id] = si;
+        }
+        rtcCommitScene(ps);
+        m->proto_scenes.push_back(ps);
+        m->proto_geom_shape.push_back(std::move(map));
+    }
+
+    m->top = rtcNewScene(m->device);
+    rtcSetSceneBuildQuality(m->top, RTC_BUILD_QUALITY_HIGH);
+    for (int si : scene.top_level_shapes) {
+        unsigned id = m->attach_shape(m->top, si);
+        if (m->top_geom_shape.size() <= id) m->top_geom_shape.resize(id + 1, -1);
+        m->top_geom_shape[id] = si;
+    }
+    for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
+        const Instance& inst = scene.instances[ii];
+        RTCGeometry g = rtcNewGeometry(m->device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, m->proto_scenes[inst.prototype]);
+        float xfm[12];  // 3x4 column-major
+        const auto& a = inst.world_from_instance.matrix().m;
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+        rtcCommitGeometry(g);
+        unsigned id = rtcAttachGeometry(m->top, g);
+        rtcReleaseGeometry(g);
+        if (m->inst_geom_to_instance.size() <= id) m->inst_geom_to_instance.resize(id + 1, -1);
+        m->inst_geom_to_instance[id] = int(ii);
+        if (m->top_geom_shape.size() <= id) m->top_geom_shape.resize(id + 1, -1);
+    }
+    rtcCommitScene(m->top);
+}
+
+Accel::~Accel() {
+    if (m->top) rtcReleaseScene(m->top);
+    for (RTCScene s : m->proto_scenes) rtcReleaseScene(s);
+    if (m->device) rtcReleaseDevice(m->device);
+}
+
+bool Accel::intersect(const Ray& ray, SurfaceHit& h) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x;
+    rh.ray.org_y = ray.o.y;
+    rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x;
+    rh.ray.dir_y = ray.d.y;
+    rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = 0;
+    rh.ray.tfar = ray.t_max;
+    rh.ray.time = 0;
+    rh.ray.mask = 0xFFFFFFFF;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m->top, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    m->fill(rh, ray, h);
+    return true;
+}
+
+bool Accel::occluded(const Ray& ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r;
+    r.org_x = ray.o.x;
+    r.org_y = ray.o.y;
+    r.org_z = ray.o.z;
+    r.dir_x = ray.d.x;
+    r.dir_y = ray.d.y;
+    r.dir_z = ray.d.z;
+    r.tnear = 0;
+    r.tfar = ray.t_max;
+    r.time = 0;
+    r.mask = 0xFFFFFFFF;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(m->top, &ctx, &r);
+    return r.tfar < 0;
+}
+
+Bounds3 Accel::bounds() const {
+    RTCBounds b;
+    rtcGetSceneBounds(m->top, &b);
+    Bounds3 r;
+    r.lo = Vec3(b.lower_x, b.lower_y, b.lower_z);
+    r.hi = Vec3(b.upper_x, b.upper_y, b.upper_z);
+    return r;
+}
+
+}  // namespace sr

@@ -1,0 +1,30 @@
+#pragma once
+/// Ray queries through Embree 3. This header does not include Embree; accel.cpp is the
+/// only translation unit that does.
+#include <memory>
+
+#include "steradian/geometry/hit.h"
+
+namespace sr {
+
+class Scene;
+
+class Accel {
+public:
+    /// Builds Embree scenes for the top level and every prototype of `scene`, sharing the
+    XX
+    explicit Accel(const Scene& scene);
+    ~Accel();
+    Accel(const Accel&) = delete;
+    Accel& operator=(const Accel&) = delete;
+
+    bool intersect(const Ray& ray, SurfaceHit& h) const;
+    bool occluded(const Ray& ray) const;
+    Bounds3 bounds() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m;
+};
+
+}  // namespace sr

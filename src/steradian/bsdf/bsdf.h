@@ -1,0 +1,71 @@
+#pragma once
+/// The BSDF at a surface point: one lobe (a std::variant of plain structs, each satisfying
+/// the Lobe concept) in a shading frame. World-space wrappers convert directions and
+/// enforce the geometric-normal side test against light leaks.
+#include <concepts>
+#include <variant>
+
+#include "steradian/bsdf/bxdf_common.h"
+#include "steradian/bsdf/lambert.h"
+
+namespace sr {
+
+template <typename L>
+concept Lobe = requires(const L& l, Vec3 w, Float uc, Point2 u, TransportMode m) {
+    { l.f(w, w, m) } -> std::same_as<SampledSpectrum>;
+    { l.sample(w, uc, u, m) } -> std::same_as<std::optional<BsdfSample>>;
+    { l.pdf(w, w, m) } -> std::same_as<Float>;
+    { l.flags() } -> std::same_as<uint8_t>;
+};
+
+using LobeVariant = std::variant<LambertLobe>;
+static_assert(Lobe<LambertLobe>);
+
+class Bsdf {
+public:
+    Bsdf() = default;
+    Bsdf(const Frame& shading, Normal3 ng, LobeVariant lobe)
+        : m_frame(shading), m_ng(ng), m_lobe(std::move(lobe)) {}
+
+    uint8_t flags() const {
+        return std::visit([](const auto& l) { return l.flags(); }, m_lobe);
+    }
+    bool is_specular_only() const {
+        uint8_t f = flags();
+        return (f & kLobeSpecular) && !(f & (kLobeDiffuse | kLobeGlossy));
+    }
+    bool has_non_specular() const { return flags() & (kLobeDiffuse | kLobeGlossy); }
+
+    /// f(wo, wi) for world-space unit directions (no cosine).
+    SampledSpectrum f(Vec3 wo_w, Vec3 wi_w, TransportMode mode = TransportMode::Radiance) const {
+        Vec3 wo = m_frame.to_local(wo_w), wi = m_frame.to_local(wi_w);
+        if (wo.z == 0) return SampledSpectrum(0);
+        return std::visit([&](const auto& l) { return l.f(wo, wi, mode); }, m_lobe);
+    }
+    /// Samples wi given wo (world space); the returned wi is world space.
+    std::optional<BsdfSample> sample(Vec3 wo_w, Float uc, Point2 u,
+                                     TransportMode mode = TransportMode::Radiance) const {
+        Vec3 wo = m_frame.to_local(wo_w);
+        if (wo.z == 0) return std::nullopt;
+        auto s = std::visit([&](const auto& l) { return l.sample(wo, uc, u, mode); }, m_lobe);
+        if (!s || s->f.is_zero() || s->pdf_sa == 0 || s->wi.z == 0) return std::nullopt;
+        s->wi = m_frame.to_world(s->wi);
+        return s;
+    }
+    /// Solid-angle pdf of sampling wi given wo (world space).
+    Float pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode = TransportMode::Radiance) const {
+        Vec3 wo = m_frame.to_local(wo_w), wi = m_frame.to_local(wi_w);
+        if (wo.z == 0) return 0;
+        return std::visit([&](const auto& l) { return l.pdf(wo, wi, mode); }, m_lobe);
+    }
+    const Frame& frame() const { return m_frame; }
+    Normal3 ng() const { return m_ng; }
+    const LobeVariant& lobe() const { return m_lobe; }
+
+private:
+    Frame m_frame;
+    Normal3 m_ng;
+    LobeVariant m_lobe;
+};
+
+}  // namespace sr

@@ -1,0 +1,92 @@
+#include "steradian/film/filter.h"
+
+#include <algorithm>
+
+namespace sr {
+
+namespace {
+Float gaussian(Float x, Float sigma) {
+    return 1 / std::sqrt(2 * kPi * sigma * sigma) * std::exp(-sqr(x) / (2 * sigma * sigma));
+}
+}  // namespace
+
+Filter::Filter(FilterType type, Vec2 radius, Float sigma)
+    : m_type(type), m_radius(radius), m_sigma(sigma) {
+    if (type != FilterType::Gaussian) return;
+    for (int a = 0; a < 2; ++a) {
+        int n = std::max(8, int(std::ceil(64 * m_radius[a])));
+        m_func[a].resize(n);
+        m_cdf[a].resize(n + 1);
+        m_cdf[a][0] = 0;
+        Float dx = 2 * m_radius[a] / n;
+        for (int i = 0; i < n; ++i) {
+            // Cell average by Simpson's rule.
+            Float x0 = -m_radius[a] + i * dx, x1 = x0 + dx;
+            Float v = (eval_1d(x0, a) + 4 * eval_1d(0.5f * (x0 + x1), a) + eval_1d(x1, a)) / 6;
+            m_func[a][i] = std::max(Float(0), v);
+            m_cdf[a][i + 1] = m_cdf[a][i] + m_func[a][i] * dx;
+        }
+        m_integral[a] = m_cdf[a][n];
+        for (auto& c : m_cdf[a]) c /= m_integral[a];
+    }
+}
+
+Float Filter::eval_1d(Float x, int a) const {
+    Float r = m_radius[a];
+    if (std::abs(x) > r) return 0;
+    switch (m_type) {
+        case FilterType::Box: return 1;
+        case FilterType::Triangle: return std::max(Float(0), r - std::abs(x));
+        case FilterType::Gaussian:
+            return std::max(Float(0), gaussian(x, m_sigma) - gaussian(r, m_sigma));
+    }
+    return 0;
+}
+
+Float Filter::evaluate(Vec2 p) const { return eval_1d(p.x, 0) * eval_1d(p.y, 1); }
+
+Float Filter::sample_1d(Float u, int a, Float& pdf) const {
+    Float r = m_radius[a];
+    switch (m_type) {
+        case FilterType::Box:
+            pdf = 1 / (2 * r);
+            return lerp(u, -r, r);
+        case FilterType::Triangle: {
+            // Inverse CDF of the tent on [-r, r].
+            Float x;
+            if (u < 0.5f)
+                x = -r + r * std::sqrt(2 * u);
+            else
+                x = r - r * std::sqrt(2 * (1 - u));
+            pdf = (r - std::abs(x)) / (r * r);
+            return x;
+        }
+        case FilterType::Gaussian: {
+            const auto& cdf = m_cdf[a];
+            int n = int(m_func[a].size());
+            int i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1;
+            i = clamp(i, 0, n - 1);
+            Float du = u - cdf[i];
+            Float width = cdf[i + 1] - cdf[i];
+            if (width > 0) du /= width;
+            Float dx = 2 * r / n;
+            pdf = m_func[a][i] / m_integral[a];
+            return -r + (i + du) * dx;
+        }
+    }
+    pdf = 0;
+    return 0;
+}
+
+FilterSample Filter::sample(Point2 u) const {
+    Float px, py;
+    Float x = sample_1d(u.x, 0, px);
+    Float y = sample_1d(u.y, 1, py);
+    FilterSample s;
+    s.offset = Vec2(x, y);
+    Float pdf = px * py;
+    s.weight = pdf > 0 ? evaluate(s.offset) / pdf : 0;
+    return s;
+}
+
+}  // namespace sr

@@ -1,0 +1,40 @@
+#pragma once
+/// Pixel reconstruction filters, used by filter importance sampling as in pbrt-v4: each
+/// camera sample's film offset is drawn from the filter and weighted by f / pdf, so a
+/// sample contributes to exactly one pixel (no splatting; thread-count independent).
+#include <string>
+#include <vector>
+
+#include "steradian/core/math.h"
+
+namespace sr {
+
+enum class FilterType { Box, Triangle, Gaussian };
+
+struct FilterSample {
+    Vec2 offset;   ///< from the pixel centre, in pixels
+    Float weight;  ///< f(offset) / pdf(offset)
+};
+
+class Filter {
+public:
+    /// Box (default radius 0.5), triangle (2), gaussian (1.5, sigma 0.5): pbrt-v4 defaults.
+    Filter(FilterType type, Vec2 radius, Float sigma = 0.5f);
+    FilterType type() const { return m_type; }
+    Vec2 radius() const { return m_radius; }
+    /// Filter value at offset p (pixels).
+    Float evaluate(Vec2 p) const;
+    FilterSample sample(Point2 u) const;
+
+private:
+    Float eval_1d(Float x, int axis) const;
+    Float sample_1d(Float u, int axis, Float& pdf) const;
+    FilterType m_type;
+    Vec2 m_radius;
+    Float m_sigma;
+    // Gaussian: per-axis piecewise-constant tabulation (value per cell, cdf).
+    std::vector<Float> m_func[2], m_cdf[2];
+    Float m_integral[2] = {1, 1};
+};
+
+}  // namespace sr

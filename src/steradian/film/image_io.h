@@ -1,0 +1,32 @@
+#pragma once
+/// Image files: EXR (linear float, through OpenImageIO), PFM (our own writer/reader), PNG
+/// and other 8-bit formats (sRGB-encoded) through OpenImageIO.
+#include <string>
+#include <vector>
+
+#include "steradian/core/math.h"
+
+namespace sr {
+
+/// A float image, row-major from the top row, `channels` interleaved values per pixel.
+struct Image {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> data;
+    float at(int x, int y, int c) const { return data[(size_t(y) * width + x) * channels + c]; }
+    float& at(int x, int y, int c) { return data[(size_t(y) * width + x) * channels + c]; }
+};
+
+struct WriteOptions {
+    Float exposure = 0;      ///< stops, applied to 8-bit outputs only (scale 2^exposure)
+    bool half_float = false; ///< EXR: 16-bit half instead of 32-bit float
+};
+
+/// Writes an RGB image (3 channels, linear) by the file extension: .exr (linear float),
+/// .pfm (linear float), .png/.jpg/.tif... (8-bit sRGB, clamped). Throws sr::Error.
+void write_image(const std::string& path, const Image& rgb, const WriteOptions& opts = {});
+
+/// Reads an image. 8-bit (and 16-bit integer) images are sRGB-decoded to linear when
+/// srgb_decode is true; float images are returned as stored. Throws sr::Error.
+Image read_image(const std::string& path, bool srgb_decode = true);
+
+}  // namespace sr

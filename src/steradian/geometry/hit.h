@@ -1,0 +1,66 @@
+#pragma once
+/// Ray-surface intersection records and robust ray spawning.
+#include <cstdint>
+
+#include "steradian/core/math.h"
+
+namespace sr {
+
+/// pbrt-style floating-point error bound factor gamma(n) = n u / (1 - n u), u = 2^-24.
+constexpr Float gamma_bound(int n) {
+    constexpr Float u = std::numeric_limits<Float>::epsilon() * Float(0.5);
+    return (n * u) / (1 - n * u);
+}
+
+/// A surface point reached by a ray, in world space.
+struct SurfaceHit {
+    Point3 p;           ///< position
+    Vec3 p_error;       ///< conservative absolute error bound of p per axis
+    Normal3 ng;         ///< geometric normal, unit, oriented by the shape's orientation rules
+    Normal3 ns;         ///< shading normal, unit, in the hemisphere of ng
+    Vec3 dpdu;          ///< surface tangent (not normalised), for anisotropic frames
+    Point2 uv;          ///< surface parameterisation
+    Vec3 wo;            ///< unit direction towards the ray origin
+    Float t = 0;        ///< ray parameter
+    int shape = -1;     ///< index into Scene::shapes
+    uint32_t prim = 0;  ///< primitive within the shape (triangle index)
+    int material = -1;  ///< index into Scene::materials, -1: interface (no scattering)
+    int light = -1;     ///< index into Scene::lights if the surface emits, else -1
+};
+
+/// Offsets p along n far enough to escape the error box p_error, on the side of w
+/// (Pharr et al., "Physically Based Rendering", 4th ed., sec. 6.8.6).
+inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
+    Float d = std::abs(n.x) * p_error.x + std::abs(n.y) * p_error.y + std::abs(n.z) * p_error.z;
+    Vec3 offset = n * d;
+    if (dot(w, n) < 0) offset = -offset;
+    Point3 po = p + offset;
+    for (int i = 0; i < 3; ++i) {
+        if (offset[i] > 0)
+            po[i] = std::nextafter(po[i], kInfinity);
+        else if (offset[i] < 0)
+            po[i] = std::nextafter(po[i], -kInfinity);
+    }
+    return po;
+}
+
+/// A ray leaving the hit in direction w (any length).
+inline Ray spawn_ray(const SurfaceHit& h, Vec3 w) {
+    return Ray{offset_ray_origin(h.p, h.p_error, h.ng, w), w, kInfinity};
+}
+
+/// A ray from the hit towards point target, stopping just short of it (shadow rays).
+inline Ray spawn_ray_to(const SurfaceHit& h, Point3 target) {
+    Point3 o = offset_ray_origin(h.p, h.p_error, h.ng, target - h.p);
+    Vec3 d = target - o;
+    return Ray{o, d, 1 - Float(1e-4)};
+}
+
+/// A shadow ray between two surface points, each offset off its own surface.
+inline Ray spawn_ray_between(const SurfaceHit& from, Point3 to_p, Vec3 to_err, Normal3 to_n) {
+    Point3 o = offset_ray_origin(from.p, from.p_error, from.ng, to_p - from.p);
+    Point3 t = offset_ray_origin(to_p, to_err, to_n, o - to_p);
+    return Ray{o, t - o, 1 - Float(1e-4)};
+}
+
+}  // namespace sr

@@ -1,0 +1,300 @@
+#include "steradian/geometry/shapes.h"
+
+#include <cmath>
+
+#include "steradian/sampling/warp.h"
+
+namespace sr {
+
+namespace {
+
+/// Uniform scale factor of a (near-)similarity transform: |det|^(1/3).
+double similarity_scale(const Transform& t) {
+    const auto& a = t.matrix().m;
+    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+                 a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+                 a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    return std::cbrt(std::abs(det));
+}
+
+/// World-space position and error bound for an object-space point with error err_obj.
+void to_world(const Transform& t, Point3 p_obj, Vec3 err_obj, Point3& p, Vec3& err) {
+    const auto& a = t.matrix().m;
+    Vec3d pw = t.point(Vec3d(p_obj));
+    p = Point3(pw);
+    for (int i = 0; i < 3; ++i) {
+        double e = 0;
+        for (int j = 0; j < 3; ++j)
+            e += std::abs(a[i][j]) * (err_obj[j] + gamma_bound(3) * std::abs(p_obj[j]));
+        e += gamma_bound(3) * std::abs(a[i][3]);
+        err[i] = Float(e) + gamma_bound(2) * std::abs(p[i]);
+    }
+}
+
+}  // namespace
+
+// ---- triangles ------------------------------------------------------------------------
+
+Float TriangleMesh::triangle_area(size_t i) const {
+    const auto& P = *p;
+    const uint32_t* v = &(*indices)[3 * i];
+    return Float(0.5) * length(cross(P[v[1]] - P[v[0]], P[v[2]] - P[v[0]]));
+}
+
+void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
+    const auto& P = *p;
+    const uint32_t* v = &(*indices)[3 * i];
+    Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
+    Float b0 = 1 - b1 - b2;
+    h.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
+                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
+                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
+    h.p_error = abs_sum * gamma_bound(7);
+    Vec3 e1 = p1 - p0, e2 = p2 - p0;
+    Vec3 ng = cross(e1, e2);
+    Float len = length(ng);
+    ng = len > 0 ? ng / len : Vec3(0, 0, 1);
+    if (flip_normals) ng = -ng;
+    // uv and tangent
+    Point2 uv0{0, 0}, uv1{1, 0}, uv2{1, 1};
+    if (uv && !uv->empty()) {
+        uv0 = (*uv)[v[0]];
+        uv1 = (*uv)[v[1]];
+        uv2 = (*uv)[v[2]];
+    }
+    h.uv = Point2(uv0.x * b0 + uv1.x * b1 + uv2.x * b2, uv0.y * b0 + uv1.y * b1 + uv2.y * b2);
+    Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+    Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
+    Float det = duv02.x * duv12.y - duv02.y * duv12.x;
+    Vec3 dpdu{0, 0, 0};
+    if (std::abs(det) > 1e-12f) dpdu = (dp02 * duv12.y - dp12 * duv02.y) * (1 / det);
+    if (length_squared(cross(dpdu, ng)) == 0) {
+        Vec3 s, t;
+        coordinate_system(ng, s, t);
+        dpdu = s;
+    }
+    h.dpdu = dpdu;
+    if (n && !n->empty()) {
+        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
+        Float l2 = length_squared(ns);
+        if (l2 > 0) {
+            ns = ns / std::sqrt(l2);
+            ng = face_forward(ng, ns);
+            h.ns = ns;
+        } else {
+            h.ns = ng;
+        }
+    } else {
+        h.ns = ng;
+    }
+    h.ng = ng;
+}
+
+ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {
+    const auto& P = *p;
+    const uint32_t* v = &(*indices)[3 * i];
+    auto b = sample_uniform_triangle(u);
+    ShapeSample s;
+    SurfaceHit h;
+    fill_hit(i, b[1], b[2], h);
+    s.p = h.p;
+    s.p_error = h.p_error;
+    s.n = h.ng;
+    Float area = Float(0.5) * length(cross(P[v[1]] - P[v[0]], P[v[2]] - P[v[0]]));
+    s.pdf = area > 0 ? 1 / area : 0;
+    return s;
+}
+
+// ---- spheres --------------------------------------------------------------------------
+
+bool Sphere::intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit) const {
+    // Solve |o + t d|^2 = r^2 in double precision, with the numerically stable form.
+    Vec3d od(o), dd(d);
+    double a = dot(dd, dd);
+    double b = 2 * dot(od, dd);
+    double c = dot(od, od) - double(radius) * radius;
+    // discriminant computed as in Hearn & Baker / pbrt-v4 to avoid cancellation:
+    Vec3d v = od - dd * (b / (2 * a));
+    double len = length(v);
+    double disc = 4 * a * (double(radius) + len) * (double(radius) - len);
+    if (disc < 0) return false;
+    double root = std::sqrt(disc);
+    double q = (b < 0) ? -0.5 * (b - root) : -0.5 * (b + root);
+    double t0 = q / a, t1 = c / q;
+    if (t0 > t1) std::swap(t0, t1);
+    for (double t : {t0, t1}) {
+        if (!(t > 0 && t < t_max)) continue;
+        Vec3d ph = od + dd * t;
+        ph = ph * (double(radius) / length(ph));
+        if (!full()) {
+            if (ph.z < z_min || ph.z > z_max) continue;
+            double phi = std::atan2(ph.y, ph.x);
+            if (phi < 0) phi += 2 * std::numbers::pi;
+            if (phi > phi_max) continue;
+        }
+        t_hit = Float(t);
+        p_hit = Point3(ph);
+        return true;
+    }
+    return false;
+}
+
+void Sphere::fill_hit(Point3 p_obj, SurfaceHit& h) const {
+    Vec3 err_obj = Vec3(std::abs(p_obj.x), std::abs(p_obj.y), std::abs(p_obj.z)) * gamma_bound(5);
+    to_world(world_from_object, p_obj, err_obj, h.p, h.p_error);
+    Normal3 n = normalize(world_from_object.normal(p_obj));
+    if (flip_normals) n = -n;
+    h.ng = h.ns = n;
+    Float phi = std::atan2(p_obj.y, p_obj.x);
+    if (phi < 0) phi += 2 * kPi;
+    Float cos_theta = clamp(p_obj.z / radius, Float(-1), Float(1));
+    Float theta = safe_acos(cos_theta);
+    h.uv = Point2(phi / phi_max, (theta - theta_z_min) / (theta_z_max - theta_z_min));
+    Vec3 dpdu_obj(-phi_max * p_obj.y, phi_max * p_obj.x, 0);
+    if (length_squared(dpdu_obj) == 0) {
+        Vec3 s, t;
+        coordinate_system(normalize(Vec3(p_obj)), s, t);
+        dpdu_obj = s;
+    }
+    h.dpdu = world_from_object.vector(dpdu_obj);
+}
+
+Float Sphere::area() const {
+    double s = similarity_scale(world_from_object);
+    return Float(double(phi_max) * radius * (z_max - z_min) * s * s);
+}
+
+ShapeSample Sphere::sample_area(Point2 u) const {
+    ShapeSample ss;
+    Point3 p_obj;
+    if (full()) {
+        p_obj = sample_uniform_sphere(u) * radius;
+    } else {
+        Float z = lerp(u.x, z_min, z_max);
+        Float phi = u.y * phi_max;
+        Float rxy = safe_sqrt(sqr(radius) - sqr(z));
+        p_obj = Point3(rxy * std::cos(phi), rxy * std::sin(phi), z);
+    }
+    SurfaceHit h;
+    fill_hit(p_obj, h);
+    ss.p = h.p;
+    ss.p_error = h.p_error;
+    ss.n = h.ng;
+    ss.pdf = 1 / area();
+    return ss;
+}
+
+ShapeSample Sphere::sample_from(Point3 ref, Point2 u) const {
+    Point3 center = world_from_object.point(Point3(0, 0, 0));
+    double s = similarity_scale(world_from_object);
+    Float r_world = Float(radius * s);
+    Float dc2 = length_squared(ref - center);
+    if (!full() || dc2 <= sqr(r_world) * Float(1.0001)) {
+        ShapeSample ss = sample_area(u);
+        ss.pdf = area_to_solid_angle_pdf(ss.pdf, ref, ss.p, ss.n);
+        return ss;
+    }
+    // Sample the cone of directions subtended by the sphere (uniform in solid angle),
+    // then find the point on the sphere (Pharr et al. 4th ed. sec. 6.2.4).
+    Float dc = std::sqrt(dc2);
+    Float sin2_max = sqr(r_world) / dc2;
+    Float sin_max = safe_sqrt(sin2_max);
+    Float cos_max = safe_sqrt(1 - sin2_max);
+    Float one_minus_cos_max = 1 - cos_max;
+    Float cos_t = (cos_max - 1) * u.x + 1;
+    Float sin2_t = 1 - sqr(cos_t);
+    if (sin2_max < Float(0.00068523)) {  // small cones: Taylor expansion, ~1e-8 accurate
+        sin2_t = sin2_max * u.x;
+        cos_t = std::sqrt(1 - sin2_t);
+        one_minus_cos_max = sin2_max / 2;
+    }
+    Float cos_alpha = sin2_t / sin_max + cos_t * safe_sqrt(1 - sin2_t / sqr(sin_max));
+    Float sin_alpha = safe_sqrt(1 - sqr(cos_alpha));
+    Float phi = u.y * 2 * kPi;
+    Frame f = Frame::from_z(normalize(center - ref));
+    Vec3 w_local = spherical_direction(sin_alpha, cos_alpha, phi);
+    Vec3 n_world = f.to_world(Vec3(-w_local.x, -w_local.y, -w_local.z));
+    Point3 p = center + n_world * r_world;
+    ShapeSample ss;
+    ss.p = p;
+    ss.p_error = Vec3(std::abs(p.x), std::abs(p.y), std::abs(p.z)) * gamma_bound(5);
+    ss.n = flip_normals ? -n_world : n_world;
+    ss.pdf = 1 / (2 * kPi * one_minus_cos_max);
+    return ss;
+}
+
+Float Sphere::pdf_from(Point3 ref, Point3 p, Normal3 n) const {
+    Point3 center = world_from_object.point(Point3(0, 0, 0));
+    double s = similarity_scale(world_from_object);
+    Float r_world = Float(radius * s);
+    Float dc2 = length_squared(ref - center);
+    if (!full() || dc2 <= sqr(r_world) * Float(1.0001))
+        return area_to_solid_angle_pdf(1 / area(), ref, p, n);
+    Float sin2_max = sqr(r_world) / dc2;
+    Float cos_max = safe_sqrt(1 - sin2_max);
+    Float one_minus_cos_max = 1 - cos_max;
+    if (sin2_max < Float(0.00068523)) one_minus_cos_max = sin2_max / 2;
+    return 1 / (2 * kPi * one_minus_cos_max);
+}
+
+// ---- disks ----------------------------------------------------------------------------
+
+bool Disk::intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit) const {
+    if (d.z == 0) return false;
+    Float t = (height - o.z) / d.z;
+    if (!(t > 0 && t < t_max)) return false;
+    Point3 ph = o + d * t;
+    Float dist2 = sqr(ph.x) + sqr(ph.y);
+    if (dist2 > sqr(radius) || dist2 < sqr(inner_radius)) return false;
+    if (phi_max < 2 * kPi) {
+        Float phi = std::atan2(ph.y, ph.x);
+        if (phi < 0) phi += 2 * kPi;
+        if (phi > phi_max) return false;
+    }
+    ph.z = height;
+    t_hit = t;
+    p_hit = ph;
+    return true;
+}
+
+void Disk::fill_hit(Point3 p_obj, SurfaceHit& h) const {
+    to_world(world_from_object, p_obj, Vec3(0, 0, 0), h.p, h.p_error);
+    Normal3 n = normalize(world_from_object.normal(Normal3(0, 0, 1)));
+    if (flip_normals) n = -n;
+    h.ng = h.ns = n;
+    Float dist = std::sqrt(sqr(p_obj.x) + sqr(p_obj.y));
+    Float phi = std::atan2(p_obj.y, p_obj.x);
+    if (phi < 0) phi += 2 * kPi;
+    h.uv = Point2(phi / phi_max, (radius - dist) / (radius - inner_radius));
+    Vec3 dpdu_obj(-phi_max * p_obj.y, phi_max * p_obj.x, 0);
+    if (length_squared(dpdu_obj) == 0) dpdu_obj = Vec3(1, 0, 0);
+    h.dpdu = world_from_object.vector(dpdu_obj);
+}
+
+Float Disk::area() const {
+    double s = similarity_scale(world_from_object);
+    return Float(double(phi_max) * 0.5 * (sqr(double(radius)) - sqr(double(inner_radius))) * s * s);
+}
+
+ShapeSample Disk::sample_area(Point2 u) const {
+    ShapeSample ss;
+    Point3 p_obj;
+    if (inner_radius == 0 && phi_max >= 2 * kPi) {
+        Point2 pd = sample_uniform_disk_concentric(u);
+        p_obj = Point3(pd.x * radius, pd.y * radius, height);
+    } else {
+        Float r = std::sqrt(lerp(u.x, sqr(inner_radius), sqr(radius)));
+        Float phi = u.y * phi_max;
+        p_obj = Point3(r * std::cos(phi), r * std::sin(phi), height);
+    }
+    SurfaceHit h;
+    fill_hit(p_obj, h);
+    ss.p = h.p;
+    ss.p_error = h.p_error;
+    ss.n = h.ng;
+    ss.pdf = 1 / area();
+    return ss;
+}
+
+}  // namespace sr

@@ -1,0 +1,84 @@
+#pragma once
+/// Runtime shapes: triangle meshes (Embree triangles, shared buffers), exact spheres and
+/// disks (Embree user geometry). Shapes are a std::variant of plain structs; each
+/// alternative satisfies the ShapeLike concept below.
+#include <concepts>
+#include <memory>
+#include <variant>
+#include <vector>
+
+#include "steradian/core/transform.h"
+#include "steradian/geometry/hit.h"
+
+namespace sr {
+
+/// A point sampled on a shape's surface.
+struct ShapeSample {
+    Point3 p;
+    Vec3 p_error;
+    Normal3 n;          ///< unit surface normal at p (oriented as the shape's ng)
+    Float pdf = 0;      ///< pdf_area (per unit area) or pdf_sa (per solid angle), as stated
+};
+
+/// Triangle mesh in world space (or in an instance prototype's space).
+struct TriangleMesh {
+    /// Vertex positions, padded with one extra element so Embree may read 16 bytes.
+    std::shared_ptr<std::vector<Point3>> p;
+    std::shared_ptr<std::vector<Normal3>> n;   ///< per-vertex normals or empty
+    std::shared_ptr<std::vector<Point2>> uv;   ///< per-vertex uv or empty
+    std::shared_ptr<std::vector<uint32_t>> indices;  ///< 3 per triangle
+    bool flip_normals = false;  ///< reverse_orientation XOR transform swaps handedness
+    size_t num_triangles() const { return indices->size() / 3; }
+    size_t num_vertices() const { return p->size() - 1; }
+    /// Area of triangle i.
+    Float triangle_area(size_t i) const;
+    /// Uniformly samples a point on triangle i by area; pdf_area = 1 / area.
+    ShapeSample sample_triangle(size_t i, Point2 u) const;
+    /// Fills the hit for triangle i at barycentrics (b1, b2) (Embree's u, v).
+    void fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const;
+};
+
+/// Sphere of radius r centred at the origin of its object space; partial spheres by
+/// z range and phi_max as in pbrt-v4.
+struct Sphere {
+    Transform world_from_object;
+    Float radius = 1;
+    Float z_min = -1, z_max = 1, theta_z_min = 0, theta_z_max = kPi, phi_max = 2 * kPi;
+    bool flip_normals = false;  ///< reverse_orientation XOR transform swaps handedness
+    bool full() const { return phi_max >= 2 * kPi && z_min <= -radius && z_max >= radius; }
+    /// Object-space intersection: nearest t in (0, t_max) of a ray given in object space.
+    bool intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit) const;
+    void fill_hit(Point3 p_obj, SurfaceHit& h) const;
+    Float area() const;  ///< world-space area (exact for rigid transforms and uniform scale)
+    /// Uniform by area (object space, mapped to world); pdf_area.
+    ShapeSample sample_area(Point2 u) const;
+    /// Sampled as seen from ref: by solid angle of the visible cap when ref is outside
+    /// (pdf_sa), else by area converted to solid angle.
+    ShapeSample sample_from(Point3 ref, Point2 u) const;
+    /// pdf_sa of sample_from(ref, .) choosing direction wi that hits the sphere at p.
+    Float pdf_from(Point3 ref, Point3 p, Normal3 n) const;
+};
+
+/// Disk in the plane z = height of object space, normal +z, with inner radius and phi_max.
+struct Disk {
+    Transform world_from_object;
+    Float height = 0, radius = 1, inner_radius = 0, phi_max = 2 * kPi;
+    bool flip_normals = false;
+    bool intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit) const;
+    void fill_hit(Point3 p_obj, SurfaceHit& h) const;
+    Float area() const;
+    ShapeSample sample_area(Point2 u) const;
+};
+
+/// Converts an area-measure sample to solid angle as seen from ref (pdf_sa), 0 if the
+/// sample is edge-on or coincides with ref.
+inline Float area_to_solid_angle_pdf(Float pdf_area, Point3 ref, Point3 p, Normal3 n) {
+    Vec3 d = p - ref;
+    Float dist2 = length_squared(d);
+    if (dist2 == 0) return 0;
+    Float cos_l = absdot(n, d) / std::sqrt(dist2);
+    if (cos_l == 0) return 0;
+    return pdf_area * dist2 / cos_l;
+}
+
+}  // namespace sr

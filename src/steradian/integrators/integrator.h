@@ -1,0 +1,43 @@
+#pragma once
+/// Orchestration of rendering (tiles, TBB, passes, progress, time budget), separate from
+/// the per-path kernels (path/path.h). Every sample is a pure function of (pixel, sample
+/// index, dimension, seed) and each pixel accumulates its samples in index order, so the
+/// image does not depend on the number of threads.
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "steradian/film/film.h"
+
+namespace sr {
+
+class Scene;
+
+struct RenderOptions {
+    int spp = 0;               ///< samples per pixel; <= 0: the scene's Sampler value
+    int threads = 0;           ///< 0: all hardware threads
+    uint64_t seed = 0;         ///< added to the scene's sampler seed
+    double time_budget = 0;    ///< seconds; 0: none. Stops after the last full pass.
+    bool progress = false;     ///< draw a progress bar on stderr
+};
+
+struct RenderStats {
+    double wall_seconds = 0;
+    double cpu_seconds = 0;
+    int spp = 0;               ///< samples per pixel actually completed
+    bool time_limited = false; ///< stopped early by the time budget
+    uint64_t camera_paths = 0;
+    uint64_t rays = 0;         ///< closest-hit plus shadow rays
+    uint64_t nonfinite = 0;    ///< NaN/Inf samples zeroed before reaching the film
+    size_t peak_rss_bytes = 0;
+};
+
+/// Renders `scene` into `film` with the scene's integrator. Throws sr::Error for
+/// unsupported settings.
+RenderStats render(const Scene& scene, Film& film, const RenderOptions& options);
+
+/// Process CPU time (user + system) in seconds, and peak resident set size in bytes.
+double process_cpu_seconds();
+size_t peak_rss_bytes();
+
+}  // namespace sr

@@ -1,0 +1,153 @@
+#include "steradian/lights/light.h"
+
+#include "steradian/sampling/warp.h"
+
+namespace sr {
+
+namespace {
+Float photometric(const Spectrum& s) { return spectrum_to_photometric(s); }
+}  // namespace
+
+// ---- point ----------------------------------------------------------------------------
+
+std::optional<LightLiSample> PointLight::sample_li(const LightSampleContext& ctx, Point2,
+                                                   const SampledWavelengths& lambda) const {
+    Vec3 d = p - ctx.p;
+    Float dist2 = length_squared(d);
+    if (dist2 == 0) return std::nullopt;
+    LightLiSample s;
+    s.wi = d / std::sqrt(dist2);
+    s.L = intensity.sample(lambda) * (scale / dist2);
+    s.pdf_sa = 1;
+    s.p_light = p;
+    s.delta = true;
+    return s;
+}
+
+Float PointLight::phi_y() const { return 4 * kPi * scale * photometric(intensity); }
+
+// ---- spot -----------------------------------------------------------------------------
+
+std::optional<LightLiSample> SpotLight::sample_li(const LightSampleContext& ctx, Point2,
+                                                  const SampledWavelengths& lambda) const {
+    Vec3 d = p - ctx.p;
+    Float dist2 = length_squared(d);
+    if (dist2 == 0) return std::nullopt;
+    LightLiSample s;
+    s.wi = d / std::sqrt(dist2);
+    Vec3 w_light = normalize(light_from_world.vector(-s.wi));
+    // Smooth falloff between the two cone angles (pbrt-v4's smoothstep on cos theta).
+    Float cos_t = w_light.z;
+    Float falloff;
+    if (cos_t >= cos_falloff_start) {
+        falloff = 1;
+    } else if (cos_t <= cos_falloff_end) {
+        falloff = 0;
+    } else {
+        Float t = (cos_t - cos_falloff_end) / (cos_falloff_start - cos_falloff_end);
+        falloff = t * t * (3 - 2 * t);
+    }
+    if (falloff == 0) return std::nullopt;
+    s.L = intensity.sample(lambda) * (scale * falloff / dist2);
+    s.pdf_sa = 1;
+    s.p_light = p;
+    s.delta = true;
+    return s;
+}
+
+Float SpotLight::phi_y() const {
+    return scale * photometric(intensity) * 2 * kPi *
+           ((1 - cos_falloff_start) + (cos_falloff_start - cos_falloff_end) / 2);
+}
+
+// ---- distant --------------------------------------------------------------------------
+
+std::optional<LightLiSample> DistantLight::sample_li(const LightSampleContext& ctx, Point2,
+                                                     const SampledWavelengths& lambda) const {
+    LightLiSample s;
+    s.wi = w_light;
+    s.L = radiance.sample(lambda) * scale;
+    s.pdf_sa = 1;
+    s.p_light = ctx.p + w_light * (2 * scene_radius);
+    s.delta = true;
+    s.at_infinity = true;
+    return s;
+}
+
+Float DistantLight::phi_y() const {
+    return scale * photometric(radiance) * kPi * sqr(scene_radius);
+}
+
+// ---- uniform infinite -----------------------------------------------------------------
+
+std::optional<LightLiSample> UniformInfiniteLight::sample_li(
+    const LightSampleContext& ctx, Point2 u, const SampledWavelengths& lambda) const {
+    LightLiSample s;
+    s.wi = sample_uniform_sphere(u);
+    s.pdf_sa = uniform_sphere_pdf();
+    s.L = radiance.sample(lambda) * scale;
+    s.p_light = ctx.p + s.wi * (2 * scene_radius);
+    s.at_infinity = true;
+    return s;
+}
+
+Float UniformInfiniteLight::pdf_li(const LightSampleContext&, Vec3) const {
+    return uniform_sphere_pdf();
+}
+
+Float UniformInfiniteLight::phi_y() const {
+    return 4 * kPi * kPi * sqr(scene_radius) * scale * photometric(radiance);
+}
+
+// ---- diffuse area ---------------------------------------------------------------------
+
+std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContext& ctx,
+                                                         Point2 u,
+                                                         const SampledWavelengths& lambda) const {
+    ShapeSample ss;
+    if (mesh) {
+        ss = mesh->sample_triangle(prim, u);
+        ss.pdf = area_to_solid_angle_pdf(ss.pdf, ctx.p, ss.p, ss.n);
+    } else if (sphere) {
+        ss = sphere->sample_from(ctx.p, u);
+    } else {
+        ss = disk->sample_area(u);
+        ss.pdf = area_to_solid_angle_pdf(ss.pdf, ctx.p, ss.p, ss.n);
+    }
+    if (ss.pdf == 0 || !std::isfinite(ss.pdf)) return std::nullopt;
+    Vec3 d = ss.p - ctx.p;
+    Float dist2 = length_squared(d);
+    if (dist2 == 0) return std::nullopt;
+    LightLiSample s;
+    s.wi = d / std::sqrt(dist2);
+    s.L = l(ss.n, -s.wi, lambda);
+    if (s.L.is_zero()) return std::nullopt;
+    s.pdf_sa = ss.pdf;
+    s.p_light = ss.p;
+    s.p_error = ss.p_error;
+    s.n_light = ss.n;
+    return s;
+}
+
+Float DiffuseAreaLight::pdf_li_point(const LightSampleContext& ctx, Point3 p_light,
+                                     Normal3 n_light) const {
+    if (sphere) return sphere->pdf_from(ctx.p, p_light, n_light);
+    return area_to_solid_angle_pdf(1 / area, ctx.p, p_light, n_light);
+}
+
+Float DiffuseAreaLight::phi_y() const {
+    return scale * photometric(radiance) * kPi * area * (two_sided ? 2 : 1);
+}
+
+// ---- dispatch -------------------------------------------------------------------------
+
+std::optional<LightLiSample> sample_li(const Light& light, const LightSampleContext& ctx,
+                                       Point2 u, const SampledWavelengths& lambda) {
+    return std::visit([&](const auto& l) { return l.sample_li(ctx, u, lambda); }, light);
+}
+
+Float light_phi_y(const Light& light) {
+    return std::visit([](const auto& l) { return l.phi_y(); }, light);
+}
+
+}  // namespace sr

@@ -1,0 +1,135 @@
+#pragma once
+/// Lights as a std::variant of plain structs (point, spot, distant, uniform infinite,
+/// diffuse area), each satisfying the LightLike concept. Radiometric values are spectral,
+/// in the scene's radiance unit (docs/units.md); `scale` already includes pbrt-v4's
+/// photometric normalisation and any power/illuminance parameter.
+#include <concepts>
+#include <optional>
+#include <variant>
+
+#include "steradian/core/transform.h"
+#include "steradian/geometry/shapes.h"
+#include "steradian/spectrum/spectrum.h"
+
+namespace sr {
+
+/// The receiving point of a light sample.
+struct LightSampleContext {
+    Point3 p;
+    Vec3 p_error;
+    Normal3 ng;  ///< zero for points not on a surface
+};
+
+/// A sampled light direction: L arriving at the reference point along -wi (before
+/// visibility), the solid-angle pdf (or the discrete probability 1 for delta lights), and
+/// the light point for the shadow ray.
+struct LightLiSample {
+    SampledSpectrum L;
+    Vec3 wi;            ///< unit, from the reference point towards the light
+    Float pdf_sa = 0;
+    Point3 p_light;     ///< point on the light (or far away for infinite/distant lights)
+    Vec3 p_error{0, 0, 0};
+    Normal3 n_light{0, 0, 0};
+    bool delta = false;
+    bool at_infinity = false;
+};
+
+struct PointLight {
+    Point3 p;
+    Spectrum intensity;
+    Float scale = 1;
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
+                                           const SampledWavelengths& lambda) const;
+    Float pdf_li(const LightSampleContext&, Vec3) const { return 0; }
+    /// Emitted power weighted by V(lambda) (for light selection), in scene units.
+    Float phi_y() const;
+    bool is_delta() const { return true; }
+};
+
+struct SpotLight {
+    Transform light_from_world;
+    Point3 p;
+    Spectrum intensity;
+    Float scale = 1;
+    Float cos_falloff_start = 1, cos_falloff_end = 1;
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
+                                           const SampledWavelengths& lambda) const;
+    Float pdf_li(const LightSampleContext&, Vec3) const { return 0; }
+    Float phi_y() const;
+    bool is_delta() const { return true; }
+};
+
+struct DistantLight {
+    Vec3 w_light;  ///< unit direction from the scene towards the light
+    Spectrum radiance;
+    Float scale = 1;
+    Point3 scene_center;
+    Float scene_radius = 1;
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
+                                           const SampledWavelengths& lambda) const;
+    Float pdf_li(const LightSampleContext&, Vec3) const { return 0; }
+    Float phi_y() const;
+    bool is_delta() const { return true; }
+};
+
+/// Constant radiance from every direction.
+struct UniformInfiniteLight {
+    Spectrum radiance;
+    Float scale = 1;
+    Point3 scene_center;
+    Float scene_radius = 1;
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
+                                           const SampledWavelengths& lambda) const;
+    Float pdf_li(const LightSampleContext&, Vec3) const;
+    Float phi_y() const;
+    bool is_delta() const { return false; }
+    /// Radiance arriving along a ray that escapes in direction dir.
+    SampledSpectrum le(Vec3, const SampledWavelengths& lambda) const {
+        return radiance.sample(lambda) * scale;
+    }
+};
+
+/// One emitting primitive (a triangle of a mesh, or a whole sphere or disk).
+struct DiffuseAreaLight {
+    const TriangleMesh* mesh = nullptr;  ///< exactly one of mesh, sphere, disk is set
+    const Sphere* sphere = nullptr;
+    const Disk* disk = nullptr;
+    uint32_t prim = 0;
+    Spectrum radiance;
+    Float scale = 1;
+    bool two_sided = false;
+    Float area = 0;
+
+    /// Emitted radiance leaving a point with geometric normal n in direction w.
+    SampledSpectrum l(Normal3 n, Vec3 w, const SampledWavelengths& lambda) const {
+        if (!two_sided && dot(n, w) < 0) return SampledSpectrum(0);
+        return radiance.sample(lambda) * scale;
+    }
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
+                                           const SampledWavelengths& lambda) const;
+    /// Solid-angle pdf that sample_li picks the point p_light (normal n_light) seen from ctx.
+    Float pdf_li_point(const LightSampleContext& ctx, Point3 p_light, Normal3 n_light) const;
+    Float pdf_li(const LightSampleContext&, Vec3) const { return 0; }
+    Float phi_y() const;
+    bool is_delta() const { return false; }
+};
+
+template <typename L>
+concept LightLike = requires(const L& l, const LightSampleContext& c, Point2 u,
+                             const SampledWavelengths& lambda, Vec3 w) {
+    { l.sample_li(c, u, lambda) } -> std::same_as<std::optional<LightLiSample>>;
+    { l.pdf_li(c, w) } -> std::same_as<Float>;
+    { l.phi_y() } -> std::same_as<Float>;
+    { l.is_delta() } -> std::same_as<bool>;
+};
+
+using Light = std::variant<PointLight, SpotLight, DistantLight, UniformInfiniteLight,
+                           DiffuseAreaLight>;
+static_assert(LightLike<PointLight> && LightLike<SpotLight> && LightLike<DistantLight> &&
+              LightLike<UniformInfiniteLight> && LightLike<DiffuseAreaLight>);
+
+std::optional<LightLiSample> sample_li(const Light& light, const LightSampleContext& ctx,
+                                       Point2 u, const SampledWavelengths& lambda);
+Float light_phi_y(const Light& light);
+
+}  // namespace sr

@@ -1,0 +1,71 @@
+#include "steradian/material/texture.h"
+
+namespace sr {
+
+namespace {
+bool remap(int& i, int n, WrapMode wrap) {
+    if (i >= 0 && i < n) return true;
+    switch (wrap) {
+        case WrapMode::Repeat: i = ((i % n) + n) % n; return true;
+        case WrapMode::Clamp: i = clamp(i, 0, n - 1); return true;
+        case WrapMode::Black: return false;
+    }
+    return false;
+}
+}  // namespace
+
+Rgb TextureImage::bilerp(Point2 st) const {
+    const int w = image.width, h = image.height, nc = image.channels;
+    // Texel centres at half-integers; t = 1 is the top row.
+    Float x = st.x * w - Float(0.5), y = (1 - st.y) * h - Float(0.5);
+    int xi = int(std::floor(x)), yi = int(std::floor(y));
+    Float dx = x - xi, dy = y - yi;
+    Rgb acc;
+    const Float wts[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
+    const int ox[4] = {0, 1, 0, 1}, oy[4] = {0, 0, 1, 1};
+    for (int k = 0; k < 4; ++k) {
+        int px = xi + ox[k], py = yi + oy[k];
+        if (!remap(px, w, wrap) || !remap(py, h, wrap)) continue;
+        Rgb v;
+        if (nc >= 3) {
+            v = {image.at(px, py, 0), image.at(px, py, 1), image.at(px, py, 2)};
+        } else {
+            Float g = image.at(px, py, 0);
+            v = {g, g, g};
+        }
+        acc = acc + v * wts[k];
+    }
+    return acc;
+}
+
+Float ImageFloatTexture::evaluate(const SurfaceHit& h) const {
+    Rgb c = image->bilerp(mapping.map(h.uv));
+    Float v = (c.r + c.g + c.b) / 3 * scale;
+    return invert ? std::max(Float(0), 1 - v) : v;
+}
+
+SampledSpectrum ImageSpectrumTexture::evaluate(const SurfaceHit& h,
+                                               const SampledWavelengths& lambda) const {
+    Rgb c = image->bilerp(mapping.map(h.uv)) * scale;
+    if (invert) c = {std::max(Float(0), 1 - c.r), std::max(Float(0), 1 - c.g), std::max(Float(0), 1 - c.b)};
+    switch (kind) {
+        case SpectrumKind::Albedo: {
+            c = {clamp(c.r, Float(0), Float(1)), clamp(c.g, Float(0), Float(1)), clamp(c.b, Float(0), Float(1))};
+            return Spectrum(rgb_albedo_spectrum_fast(c)).sample(lambda);
+        }
+        case SpectrumKind::Unbounded: return Spectrum(rgb_unbounded_spectrum_fast(c)).sample(lambda);
+        case SpectrumKind::Illuminant: return Spectrum(rgb_illuminant_spectrum_fast(c)).sample(lambda);
+    }
+    return SampledSpectrum(0);
+}
+
+Float evaluate(const FloatTexture& t, const SurfaceHit& h) {
+    return std::visit([&](const auto& x) { return x.evaluate(h); }, t);
+}
+
+SampledSpectrum evaluate(const SpectrumTexture& t, const SurfaceHit& h,
+                         const SampledWavelengths& lambda) {
+    return std::visit([&](const auto& x) { return x.evaluate(h, lambda); }, t);
+}
+
+}  // namespace sr

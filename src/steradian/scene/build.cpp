@@ -1,0 +1,858 @@
+#include "steradian/scene/build.h"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "steradian/accel/accel.h"
+#include "steradian/scene/mesh_io/ply.h"
+
+namespace sr {
+
+namespace {
+
+std::string resolve_path(const std::string& base_dir, const std::string& file) {
+    std::filesystem::path p(file);
+    if (p.is_absolute() || base_dir.empty()) return file;
+    return (std::filesystem::path(base_dir) / p).string();
+}
+
+[[noreturn]] void unsupported(const EntityDesc& e, std::string_view what) {
+    throw_error(e.loc, "{} \"{}\" is not supported yet (see docs/pbrt-support.md)", what, e.type);
+}
+
+/// Reads a two-column (wavelength, value) text file.
+std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& loc) {
+    std::ifstream f(path);
+    if (!f) throw_error(loc, "cannot open spectrum file \"{}\"", path);
+    std::vector<Float> v;
+    std::string line;
+    int line_no = 0;
+    while (std::getline(f, line)) {
+        ++line_no;
+        auto hash = line.find('#');
+        if (hash != std::string::npos) line.resize(hash);
+        std::istringstream ss(line);
+        double a, b;
+        if (!(ss >> a)) continue;
+        if (!(ss >> b)) throw_error(loc, "{}:{}: expected \"wavelength value\"", path, line_no);
+        v.push_back(Float(a));
+        v.push_back(Float(b));
+    }
+    if (v.size() < 4) throw_error(loc, "spectrum file \"{}\" has fewer than two samples", path);
+    return v;
+}
+
+}  // namespace
+
+Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::string& base_dir) {
+    switch (p.type) {
+        case ParamType::Rgb: {
+            if (p.numbers.size() != 3)
+                throw_error(p.loc, "\"rgb {}\" needs 3 values, got {}", p.name, p.numbers.size());
+            Rgb c{Float(p.numbers[0]), Float(p.numbers[1]), Float(p.numbers[2])};
+            if (c.r < 0 || c.g < 0 || c.b < 0)
+                throw_error(p.loc, "\"rgb {}\" has a negative component", p.name);
+            switch (kind) {
+                case SpectrumKind::Albedo:
+                    if (c.r > 1 || c.g > 1 || c.b > 1)
+                        throw_error(p.loc,
+                                    "\"rgb {}\" is a reflectance and must be in [0, 1], got "
+                                    "[{} {} {}]",
+                                    p.name, c.r, c.g, c.b);
+                    return rgb_albedo_spectrum(c);
+                case SpectrumKind::Unbounded: return rgb_unbounded_spectrum(c);
+                case SpectrumKind::Illuminant: return rgb_illuminant_spectrum(c);
+            }
+            break;
+        }
+        case ParamType::Blackbody: {
+            if (p.numbers.size() != 1)
+                throw_error(p.loc, "\"blackbody {}\" needs one temperature", p.name);
+            if (!(p.numbers[0] > 0))
+                throw_error(p.loc, "\"blackbody {}\": temperature must be positive", p.name);
+            return BlackbodySpectrum(Float(p.numbers[0]));
+        }
+        case ParamType::Spectrum: {
+            if (!p.strings.empty()) {
+                if (p.strings.size() != 1)
+                    throw_error(p.loc, "\"spectrum {}\" expects one name or file", p.name);
+                if (auto s = named_spectrum(p.strings[0])) return *s;
+                std::string path = resolve_path(base_dir, p.strings[0]);
+                if (!std::filesystem::exists(path))
+                    throw_error(p.loc, "\"{}\" is neither a named spectrum nor a file",
+                                p.strings[0]);
+                auto pairs = read_spectrum_file(path, p.loc);
+                return densely_sampled(piecewise_linear_from_interleaved(pairs, false));
+            }
+            if (p.numbers.size() < 4 || p.numbers.size() % 2)
+                throw_error(p.loc,
+                            "\"spectrum {}\" needs (wavelength, value) pairs, at least two",
+                            p.name);
+            std::vector<Float> pairs(p.numbers.begin(), p.numbers.end());
+            for (size_t i = 2; i < pairs.size(); i += 2)
+                if (!(pairs[i] > pairs[i - 2]))
+                    throw_error(p.loc, "\"spectrum {}\": wavelengths must increase", p.name);
+            return densely_sampled(piecewise_linear_from_interleaved(pairs, false));
+        }
+        default: break;
+    }
+    throw_error(p.loc, "parameter \"{} {}\" is not a spectrum", to_string(p.type), p.name);
+}
+
+namespace {
+
+class Builder {
+public:
+    Builder(const SceneDesc& d, const BuildOptions& o) : m_d(d), m_o(o) {}
+
+    Scene build() {
+        build_options_block();
+        build_textures();
+        build_materials();
+        for (const ShapeDesc& s : m_d.shapes) add_shape(s, Transform(), nullptr);
+        build_instances();
+        // Lights are created by build_lights() once the geometry's bounds are known.
+        return std::move(m_s);
+    }
+
+private:
+    // ---- options block --------------------------------------------------------------
+    void build_options_block() {
+        build_film();
+        build_camera();
+        build_filter();
+        build_sampler();
+        build_integrator();
+    }
+
+    void build_film() {
+        const EntityDesc& f = m_d.film;
+        FilmParams fp;
+        if (!f.type.empty() && f.type != "rgb") unsupported(f, "Film");
+        const ParamSet& ps = f.params;
+        fp.resolution = Vec2i(ps.get_int("xresolution", 1280), ps.get_int("yresolution", 720));
+        if (fp.resolution.x <= 0 || fp.resolution.y <= 0)
+            throw_error(f.loc, "film resolution must be positive");
+        fp.filename = ps.get_string("filename", "pbrt.exr");
+        fp.x0 = 0;
+        fp.x1 = fp.resolution.x;
+        fp.y0 = 0;
+        fp.y1 = fp.resolution.y;
+        if (auto pb = ps.get_ints("pixelbounds"); !pb.empty()) {
+            if (pb.size() != 4) throw_error(f.loc, "\"pixelbounds\" needs 4 values");
+            fp.x0 = clamp(pb[0], 0, fp.resolution.x);
+            fp.x1 = clamp(pb[1], 0, fp.resolution.x);
+            fp.y0 = clamp(pb[2], 0, fp.resolution.y);
+            fp.y1 = clamp(pb[3], 0, fp.resolution.y);
+        }
+        if (auto cw = ps.get_floats("cropwindow"); !cw.empty()) {
+            if (cw.size() != 4) throw_error(f.loc, "\"cropwindow\" needs 4 values");
+            Float x0 = clamp(std::min(cw[0], cw[1]), Float(0), Float(1));
+            Float x1 = clamp(std::max(cw[0], cw[1]), Float(0), Float(1));
+            Float y0 = clamp(std::min(cw[2], cw[3]), Float(0), Float(1));
+            Float y1 = clamp(std::max(cw[2], cw[3]), Float(0), Float(1));
+            fp.x0 = int(std::ceil(fp.resolution.x * x0));
+            fp.x1 = int(std::ceil(fp.resolution.x * x1));
+            fp.y0 = int(std::ceil(fp.resolution.y * y0));
+            fp.y1 = int(std::ceil(fp.resolution.y * y1));
+        }
+        if (fp.x1 <= fp.x0 || fp.y1 <= fp.y0)
+            throw_error(f.loc, "the crop window / pixel bounds select no pixels");
+        Float iso = ps.get_float("iso", 100);
+        m_exposure_iso = iso / 100;
+        std::string sensor = ps.get_string("sensor", "cie1931");
+        if (sensor != "cie1931")
+            throw_error(f.loc, "sensor \"{}\" is not supported yet (only \"cie1931\")", sensor);
+        Float wb = ps.get_float("whitebalance", 0);
+        if (wb > 0) {
+            // White balance from the CIE daylight illuminant of that temperature.
+            Xyz w = spectrum_to_xyz(daylight_spectrum(wb));
+            Float sum = w.x + w.y + w.z;
+            fp.rgb_from_sensor = srgb_from_xyz_white_balanced(w.x / sum, w.y / sum);
+        } else {
+            fp.rgb_from_sensor = srgb_from_xyz_matrix();
+        }
+        fp.max_component = ps.get_float("maxcomponentvalue", kInfinity);
+        fp.half_float = ps.get_bool("savefp16", false);
+        ps.get_float("diagonal", 35);  // only meaningful for the realistic camera
+        ps.check_unused("Film \"rgb\"");
+        m_s.film = fp;
+    }
+
+    void build_camera() {
+        const CameraDesc& c = m_d.camera;
+        std::string type = c.type.empty() ? "perspective" : c.type;
+        const ParamSet& ps = c.params;
+        CameraParams cp;
+        cp.world_from_camera = c.world_from_camera;
+        cp.resolution = m_s.film.resolution;
+        Float shutter_open = ps.get_float("shutteropen", 0);
+        Float shutter_close = ps.get_float("shutterclose", 1);
+        if (shutter_close < shutter_open)
+            throw_error(c.loc, "shutterclose is before shutteropen");
+        m_s.film.imaging_ratio = (shutter_close - shutter_open) * m_exposure_iso;
+        Float frame = ps.get_float("frameaspectratio",
+                                   Float(cp.resolution.x) / Float(cp.resolution.y));
+        if (frame > 1) {
+            cp.screen[0] = -frame; cp.screen[1] = frame; cp.screen[2] = -1; cp.screen[3] = 1;
+        } else {
+            cp.screen[0] = -1; cp.screen[1] = 1; cp.screen[2] = -1 / frame; cp.screen[3] = 1 / frame;
+        }
+        if (auto sw = ps.get_floats("screenwindow"); !sw.empty()) {
+            if (sw.size() != 4) throw_error(c.loc, "\"screenwindow\" needs 4 values");
+            for (int i = 0; i < 4; ++i) cp.screen[i] = sw[i];
+        }
+        cp.lens_radius = ps.get_float("lensradius", 0);
+        cp.focal_distance = ps.get_float("focaldistance", 1e6f);
+        if (type == "perspective") {
+            Float fov = ps.get_float("fov", 90);
+            if (!(fov > 0 && fov < 180)) throw_error(c.loc, "fov must be in (0, 180) degrees");
+            ps.check_unused("Camera \"perspective\"");
+            m_s.camera = std::make_unique<PerspectiveCamera>(cp, fov);
+        } else if (type == "orthographic") {
+            ps.check_unused("Camera \"orthographic\"");
+            m_s.camera = std::make_unique<OrthographicCamera>(cp);
+        } else {
+            CameraDesc cc = c;
+            cc.type = type;
+            unsupported(cc, "Camera");
+        }
+    }
+
+    void build_filter() {
+        const EntityDesc& f = m_d.filter;
+        std::string type = f.type.empty() ? "gaussian" : f.type;
+        const ParamSet& ps = f.params;
+        FilterType t;
+        Float def_r;
+        if (type == "box") t = FilterType::Box, def_r = 0.5f;
+        else if (type == "triangle") t = FilterType::Triangle, def_r = 2;
+        else if (type == "gaussian") t = FilterType::Gaussian, def_r = 1.5f;
+        else {
+            EntityDesc e = f;
+            e.type = type;
+            unsupported(e, "PixelFilter");
+        }
+        Vec2 r(ps.get_float("xradius", def_r), ps.get_float("yradius", def_r));
+        if (!(r.x > 0 && r.y > 0)) throw_error(f.loc, "filter radius must be positive");
+        Float sigma = t == FilterType::Gaussian ? ps.get_float("sigma", 0.5f) : 0.5f;
+        ps.check_unused(fmt::format("PixelFilter \"{}\"", type));
+        m_s.filter = std::make_unique<Filter>(t, r, sigma);
+    }
+
+    void build_sampler() {
+        const EntityDesc& s = m_d.sampler;
+        std::string type = s.type.empty() ? "zsobol" : s.type;
+        const ParamSet& ps = s.params;
+        SamplerSettings ss;
+        static const std::map<std::string, std::string> names = {
+            {"independent", "independent"}, {"stratified", "stratified"},
+            {"zsobol", "zsobol"},           {"sobol", "sobol"},
+            {"paddedsobol", "paddedsobol"}, {"halton", "zsobol"},
+            {"pmj02bn", "paddedsobol"}};
+        auto it = names.find(type);
+        if (it == names.end()) {
+            EntityDesc e = s;
+            e.type = type;
+            unsupported(e, "Sampler");
+        }
+        if (it->first != it->second && type != "sobol")
+            warning(s.loc, fmt::format("Sampler \"{}\" is rendered with our \"{}\" sampler", type,
+                                       it->second));
+        ss.type = it->second;
+        ss.seed = uint64_t(ps.get_int("seed", 0));
+        if (type == "stratified") {
+            ss.x_samples = ps.get_int("xsamples", 4);
+            ss.y_samples = ps.get_int("ysamples", 4);
+            ss.jitter = ps.get_bool("jitter", true);
+            if (ss.x_samples <= 0 || ss.y_samples <= 0)
+                throw_error(s.loc, "xsamples and ysamples must be positive");
+            ss.spp = ss.x_samples * ss.y_samples;
+        } else {
+            ss.spp = ps.get_int("pixelsamples", 16);
+            if (ss.spp <= 0) throw_error(s.loc, "pixelsamples must be positive");
+            ps.get_string("randomization", "");
+        }
+        if (m_o.spp_override > 0) ss.spp = m_o.spp_override;
+        ps.check_unused(fmt::format("Sampler \"{}\"", type));
+        m_s.sampler = ss;
+    }
+
+    void build_integrator() {
+        const EntityDesc& e = m_d.integrator;
+        std::string type = e.type.empty() ? "volpath" : e.type;
+        const ParamSet& ps = e.params;
+        IntegratorSettings is;
+        if (type == "path" || type == "volpath") {
+            if (type == "volpath")
+                warning(e.loc, "Integrator \"volpath\" is rendered by \"path\" (no participating media)");
+            is.max_depth = ps.get_int("maxdepth", 5);
+            is.regularize = ps.get_bool("regularize", false);
+            if (is.regularize)
+                throw_error(e.loc, "\"regularize\" is not supported yet");
+            std::string strategy = ps.get_string("strategy", "mis");
+            if (strategy == "mis") is.strategy = LightStrategy::Mis;
+            else if (strategy == "bsdf") is.strategy = LightStrategy::BsdfOnly;
+            else if (strategy == "light") is.strategy = LightStrategy::LightOnly;
+            else throw_error(e.loc, "unknown \"strategy\" \"{}\": expected mis, bsdf or light", strategy);
+        } else if (type == "simplepath") {
+            is.max_depth = ps.get_int("maxdepth", 5);
+            bool lights = ps.get_bool("samplelights", true);
+            bool bsdf = ps.get_bool("samplebsdf", true);
+            if (!bsdf) throw_error(e.loc, "\"samplebsdf\" false (uniform sampling) is not supported");
+            is.strategy = lights ? LightStrategy::LightOnly : LightStrategy::BsdfOnly;
+        } else {
+            EntityDesc ee = e;
+            ee.type = type;
+            unsupported(ee, "Integrator");
+        }
+        if (is.max_depth < 0) throw_error(e.loc, "maxdepth must be >= 0");
+        std::string ls = ps.get_string("lightsampler", "bvh");
+        if (ls == "uniform") is.light_sampler = "uniform";
+        else if (ls == "power" || ls == "bvh") is.light_sampler = "power";
+        else throw_error(e.loc, "unknown light sampler \"{}\"", ls);
+        ps.check_unused(fmt::format("Integrator \"{}\"", type));
+        is.type = "path";
+        m_s.integrator = is;
+    }
+
+    // ---- textures -------------------------------------------------------------------
+    std::shared_ptr<const TextureImage> load_image(const TextureDesc& t, const ParamSet& ps) {
+        std::string file = ps.get_string("filename", "");
+        if (file.empty()) throw_error(t.loc, "imagemap texture \"{}\" needs a \"filename\"", t.name);
+        std::string path = resolve_path(m_d.base_dir, file);
+        std::string encoding = ps.get_string("encoding", "sRGB");
+        std::string wrap = ps.get_string("wrap", "repeat");
+        std::string key = path + "|" + encoding + "|" + wrap;
+        if (auto it = m_images.find(key); it != m_images.end()) return it->second;
+        auto img = std::make_shared<TextureImage>();
+        try {
+            img->image = read_image(path, encoding == "sRGB");
+        } catch (const Error& err) {
+            throw_error(t.loc, "{}", err.what());
+        }
+        if (encoding != "sRGB" && encoding != "linear") {
+            Float gamma = 0;
+            if (std::sscanf(encoding.c_str(), "gamma %f", &gamma) != 1 || gamma <= 0)
+                throw_error(t.loc, "unknown encoding \"{}\" (sRGB, linear, or \"gamma g\")", encoding);
+            for (auto& v : img->image.data) v = std::pow(std::max(0.f, v), gamma);
+        }
+        if (wrap == "repeat") img->wrap = WrapMode::Repeat;
+        else if (wrap == "clamp") img->wrap = WrapMode::Clamp;
+        else if (wrap == "black") img->wrap = WrapMode::Black;
+        else throw_error(t.loc, "unknown wrap mode \"{}\"", wrap);
+        m_images[key] = img;
+        return img;
+    }
+
+    UvMapping read_mapping(const TextureDesc& t, const ParamSet& ps) {
+        std::string mapping = ps.get_string("mapping", "uv");
+        if (mapping != "uv")
+            throw_error(t.loc, "texture mapping \"{}\" is not supported yet (only \"uv\")", mapping);
+        return {ps.get_float("uscale", 1), ps.get_float("vscale", 1), ps.get_float("udelta", 0),
+                ps.get_float("vdelta", 0)};
+    }
+
+    void build_textures() {
+        for (const TextureDesc& t : m_d.float_textures) {
+            const ParamSet& ps = t.params;
+            FloatTexture tex;
+            if (t.type == "constant") {
+                tex = ConstantFloatTexture{ps.get_float("value", 1)};
+            } else if (t.type == "imagemap") {
+                ImageFloatTexture it;
+                it.mapping = read_mapping(t, ps);
+                it.image = load_image(t, ps);
+                it.scale = ps.get_float("scale", 1);
+                it.invert = ps.get_bool("invert", false);
+                ps.get_string("filter", "bilinear");
+                ps.get_float("maxanisotropy", 8);
+                tex = it;
+            } else {
+                unsupported(t, "Texture");
+            }
+            ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+            m_float_tex[t.name] = int(m_s.float_textures.size());
+            m_s.float_textures.push_back(tex);
+        }
+        for (const TextureDesc& t : m_d.spectrum_textures) {
+            const ParamSet& ps = t.params;
+            if (t.type == "constant") {
+                const Param* v = ps.find_spectrum("value");
+                Spectrum s = v ? spectrum_from_param(*v, SpectrumKind::Albedo, m_d.base_dir)
+                               : Spectrum(ConstantSpectrum{1});
+                ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+                m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+                m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
+            } else if (t.type == "imagemap") {
+                ImageSpectrumTexture it;
+                it.mapping = read_mapping(t, ps);
+                it.image = load_image(t, ps);
+                it.scale = ps.get_float("scale", 1);
+                it.invert = ps.get_bool("invert", false);
+                ps.get_string("filter", "bilinear");
+                ps.get_float("maxanisotropy", 8);
+                ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+                m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+                m_s.spectrum_textures.push_back(it);
+            } else {
+                unsupported(t, "Texture");
+            }
+        }
+    }
+
+    /// A spectrum-texture index for material parameter `name`: a texture reference, an
+    /// inline spectrum, or the default constant.
+    int spectrum_texture_param(const ParamSet& ps, std::string_view name, Float def) {
+        if (auto tn = ps.find_texture(name)) {
+            auto it = m_spec_tex.find(*tn);
+            if (it == m_spec_tex.end()) {
+                const Param* p = ps.find(name);
+                throw_error(p ? p->loc : SourceLoc{}, "unknown spectrum texture \"{}\"", *tn);
+            }
+            return it->second;
+        }
+        Spectrum s = ConstantSpectrum{def};
+        if (const Param* p = ps.find_spectrum(name))
+            s = spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir);
+        m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
+        return int(m_s.spectrum_textures.size()) - 1;
+    }
+
+    // ---- materials ------------------------------------------------------------------
+    Material make_material(const MaterialDesc& m) {
+        const ParamSet& ps = m.params;
+        std::string what = m.name.empty() ? fmt::format("Material \"{}\"", m.type)
+                                          : fmt::format("material \"{}\"", m.name);
+        if (ps.find("displacement") || ps.find("normalmap"))
+            throw_error(m.loc, "{}: \"displacement\" and \"normalmap\" are not supported yet", what);
+        if (m.type == "diffuse") {
+            DiffuseMaterial d;
+            d.reflectance = spectrum_texture_param(ps, "reflectance", 0.5f);
+            ps.check_unused(what);
+            return d;
+        }
+        if (m.type == "interface" || m.type == "none" || m.type.empty()) {
+            ps.check_unused(what);
+            return InterfaceMaterial{};
+        }
+        throw_error(m.loc, "material type \"{}\" is not supported yet (see docs/pbrt-support.md)",
+                    m.type);
+    }
+
+    void build_materials() {
+        m_material_index.resize(m_d.materials.size(), -1);
+        for (size_t i = 0; i < m_d.materials.size(); ++i) {
+            m_material_index[i] = int(m_s.materials.size());
+            m_s.materials.push_back(make_material(m_d.materials[i]));
+        }
+    }
+
+    int resolve_material(const MaterialRef& r) {
+        if (r.index >= 0) {
+            int mi = m_material_index[r.index];
+            return std::holds_alternative<InterfaceMaterial>(m_s.materials[mi]) ? -1 : mi;
+        }
+        if (!r.name.empty()) {
+            auto it = m_d.named_materials.find(r.name);
+            if (it == m_d.named_materials.end())
+                throw_error(r.loc, "named material \"{}\" is not defined", r.name);
+            int mi = m_material_index[it->second];
+            return std::holds_alternative<InterfaceMaterial>(m_s.materials[mi]) ? -1 : mi;
+        }
+        // pbrt-v4's default: diffuse with reflectance 0.5.
+        if (m_default_material < 0) {
+            DiffuseMaterial d;
+            m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(ConstantSpectrum{0.5f})});
+            d.reflectance = int(m_s.spectrum_textures.size()) - 1;
+            m_default_material = int(m_s.materials.size());
+            m_s.materials.push_back(d);
+        }
+        return m_default_material;
+    }
+
+    // ---- shapes ---------------------------------------------------------------------
+    static std::shared_ptr<std::vector<Point3>> padded_positions(std::vector<Point3> p) {
+        p.push_back(Point3(0, 0, 0));  // Embree reads up to 16 bytes past the last vertex
+        return std::make_shared<std::vector<Point3>>(std::move(p));
+    }
+
+    TriangleMesh make_mesh(const ShapeDesc& s, std::vector<Point3> p, std::vector<Normal3> n,
+                           std::vector<Point2> uv, std::vector<int> idx) {
+        const Transform& x = s.world_from_object;
+        const size_t nv = p.size();
+        for (int i : idx)
+            if (i < 0 || size_t(i) >= nv)
+                throw_error(s.loc, "Shape \"{}\": vertex index {} out of range (there are {} vertices)",
+                            s.type, i, nv);
+        if (!n.empty() && n.size() != nv)
+            throw_error(s.loc, "Shape \"{}\": {} normals for {} vertices", s.type, n.size(), nv);
+        if (!uv.empty() && uv.size() != nv)
+            throw_error(s.loc, "Shape \"{}\": {} uvs for {} vertices", s.type, uv.size(), nv);
+        for (auto& v : p) {
+            if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+                throw_error(s.loc, "Shape \"{}\": non-finite vertex position", s.type);
+            v = x.point(v);
+        }
+        for (auto& v : n) {
+            Vec3 w = x.normal(v);
+            Float l = length(w);
+            v = l > 0 ? w / l : w;
+        }
+        TriangleMesh m;
+        m.p = padded_positions(std::move(p));
+        m.n = std::make_shared<std::vector<Normal3>>(std::move(n));
+        m.uv = std::make_shared<std::vector<Point2>>(std::move(uv));
+        m.indices = std::make_shared<std::vector<uint32_t>>(idx.begin(), idx.end());
+        m.flip_normals = s.reverse_orientation != x.swaps_handedness();
+        return m;
+    }
+
+    std::optional<ShapeGeometry> make_geometry(const ShapeDesc& s) {
+        const ParamSet& ps = s.params;
+        std::string what = fmt::format("Shape \"{}\"", s.type);
+        if (s.type == "trianglemesh") {
+            auto p = ps.get_point3s("P");
+            auto idx = ps.get_ints("indices");
+            if (idx.empty() && p.size() == 3) idx = {0, 1, 2};
+            if (p.empty()) throw_error(s.loc, "{}: \"P\" is required", what);
+            if (idx.empty() || idx.size() % 3)
+                throw_error(s.loc, "{}: \"indices\" must hold a multiple of 3 values, has {}", what,
+                            idx.size());
+            auto n = ps.get_normals("N");
+            auto uv = ps.get_point2s("uv");
+            ps.get_floats("S");
+            ps.get_ints("faceIndices");
+            check_alpha(s);
+            ps.check_unused(what);
+            return make_mesh(s, std::move(p), std::move(n), std::move(uv), std::move(idx));
+        }
+        if (s.type == "plymesh") {
+            std::string file = ps.get_string("filename", "");
+            if (file.empty()) throw_error(s.loc, "{}: \"filename\" is required", what);
+            if (ps.find("displacement"))
+                throw_error(s.loc, "{}: \"displacement\" is not supported yet", what);
+            ps.get_float("edgelength", 1);
+            check_alpha(s);
+            ps.check_unused(what);
+            TriangleMeshData d;
+            try {
+                d = read_ply(resolve_path(m_d.base_dir, file));
+            } catch (const Error& e) {
+                throw_error(s.loc, "{}", e.what());
+            }
+            std::vector<int> idx(d.indices.begin(), d.indices.end());
+            return make_mesh(s, std::move(d.p), std::move(d.n), std::move(d.uv), std::move(idx));
+        }
+        if (s.type == "bilinearmesh") return make_bilinear(s);
+        if (s.type == "sphere") {
+            Sphere sp;
+            sp.world_from_object = s.world_from_object;
+            sp.radius = ps.get_float("radius", 1);
+            if (!(sp.radius > 0)) throw_error(s.loc, "{}: radius must be positive", what);
+            Float zmin = ps.get_float("zmin", -sp.radius), zmax = ps.get_float("zmax", sp.radius);
+            sp.z_min = clamp(std::min(zmin, zmax), -sp.radius, sp.radius);
+            sp.z_max = clamp(std::max(zmin, zmax), -sp.radius, sp.radius);
+            sp.theta_z_min = std::acos(clamp(std::min(zmin, zmax) / sp.radius, Float(-1), Float(1)));
+            sp.theta_z_max = std::acos(clamp(std::max(zmin, zmax) / sp.radius, Float(-1), Float(1)));
+            sp.phi_max = radians(clamp(ps.get_float("phimax", 360), Float(0), Float(360)));
+            sp.flip_normals = s.reverse_orientation != s.world_from_object.swaps_handedness();
+            check_alpha(s);
+            ps.check_unused(what);
+            return sp;
+        }
+        if (s.type == "disk") {
+            Disk d;
+            d.world_from_object = s.world_from_object;
+            d.height = ps.get_float("height", 0);
+            d.radius = ps.get_float("radius", 1);
+            d.inner_radius = ps.get_float("innerradius", 0);
+            d.phi_max = radians(clamp(ps.get_float("phimax", 360), Float(0), Float(360)));
+            if (!(d.radius > 0) || d.inner_radius < 0 || d.inner_radius >= d.radius)
+                throw_error(s.loc, "{}: need 0 <= innerradius < radius", what);
+            d.flip_normals = s.reverse_orientation != s.world_from_object.swaps_handedness();
+            check_alpha(s);
+            ps.check_unused(what);
+            return d;
+        }
+        throw_error(s.loc, "shape type \"{}\" is not supported yet (see docs/pbrt-support.md)",
+                    s.type);
+    }
+
+    void check_alpha(const ShapeDesc& s) {
+        if (const Param* a = s.params.find("alpha")) {
+            if (a->type == ParamType::Float && a->numbers.size() == 1 && a->numbers[0] == 1) return;
+            throw_error(a->loc, "\"alpha\" cut-outs are not supported yet");
+        }
+    }
+
+    ShapeGeometry make_bilinear(const ShapeDesc& s) {
+        const ParamSet& ps = s.params;
+        auto p = ps.get_point3s("P");
+        auto idx = ps.get_ints("indices");
+        if (idx.empty() && p.size() == 4) idx = {0, 1, 2, 3};
+        if (idx.empty() || idx.size() % 4)
+            throw_error(s.loc, "Shape \"bilinearmesh\": \"indices\" must hold 4 values per patch");
+        auto n = ps.get_normals("N");
+        auto uv = ps.get_point2s("uv");
+        check_alpha(s);
+        ps.check_unused("Shape \"bilinearmesh\"");
+        for (int i : idx)
+            if (i < 0 || size_t(i) >= p.size())
+                throw_error(s.loc, "Shape \"bilinearmesh\": vertex index {} out of range", i);
+        std::vector<Point3> op;
+        std::vector<Normal3> on;
+        std::vector<Point2> ouv;
+        std::vector<int> oi;
+        bool warned = false;
+        const int kTess = 16;
+        for (size_t q = 0; q < idx.size(); q += 4) {
+            int v00 = idx[q], v10 = idx[q + 1], v01 = idx[q + 2], v11 = idx[q + 3];
+            Point3 p00 = p[v00], p10 = p[v10], p01 = p[v01], p11 = p[v11];
+            Vec3 nrm = cross(p10 - p00, p01 - p00);
+            Float scale = std::max({length(p10 - p00), length(p01 - p00), Float(1e-30)});
+            bool planar = std::abs(dot(normalize(nrm), p11 - p00)) <= 1e-5f * scale;
+            int res = planar ? 1 : kTess;
+            if (!planar && !warned) {
+                warning(s.loc, "non-planar bilinear patches are tessellated (16x16 quads)");
+                warned = true;
+            }
+            auto uvat = [&](int v, Point2 def) { return uv.empty() ? def : uv[v]; };
+            Point2 t00 = uvat(v00, {0, 0}), t10 = uvat(v10, {1, 0}), t01 = uvat(v01, {0, 1}),
+                   t11 = uvat(v11, {1, 1});
+            int base = int(op.size());
+            for (int j = 0; j <= res; ++j)
+                for (int i = 0; i <= res; ++i) {
+                    Float u = Float(i) / res, v = Float(j) / res;
+                    op.push_back((p00 * (1 - u) + p10 * u) * (1 - v) + (p01 * (1 - u) + p11 * u) * v);
+                    Point2 a = t00 * (1 - u) + t10 * u, b = t01 * (1 - u) + t11 * u;
+                    ouv.push_back(a * (1 - v) + b * v);
+                    if (!n.empty())
+                        on.push_back(normalize((n[v00] * (1 - u) + n[v10] * u) * (1 - v) +
+                                               (n[v01] * (1 - u) + n[v11] * u) * v));
+                }
+            for (int j = 0; j < res; ++j)
+                for (int i = 0; i < res; ++i) {
+                    int a = base + j * (res + 1) + i, b = a + 1, c = a + (res + 1), d = c + 1;
+                    oi.insert(oi.end(), {a, b, d, a, d, c});
+                }
+        }
+        return make_mesh(s, std::move(op), std::move(on), std::move(ouv), std::move(oi));
+    }
+
+    /// Adds a shape (world-level when proto is null, else to the prototype).
+    void add_shape(const ShapeDesc& s, const Transform&, Prototype* proto) {
+        auto geom = make_geometry(s);
+        if (!geom) return;
+        ShapeEntry e;
+        e.geometry = std::move(*geom);
+        e.material = resolve_material(s.material);
+        int index = int(m_s.shapes.size());
+        if (s.area_light >= 0) {
+            if (proto)
+                throw_error(s.loc, "area lights are not supported inside ObjectBegin (as in pbrt-v4)");
+            m_pending_area.push_back({index, s.area_light});
+        }
+        m_s.shapes.push_back(std::move(e));
+        if (proto)
+            proto->shapes.push_back(index);
+        else
+            m_s.top_level_shapes.push_back(index);
+    }
+
+    void build_instances() {
+        std::map<std::string, int> proto_index;
+        for (const auto& [name, def] : m_d.instances) {
+            Prototype p;
+            p.name = name;
+            for (const ShapeDesc& s : def.shapes) add_shape(s, Transform(), &p);
+            proto_index[name] = int(m_s.prototypes.size());
+            m_s.prototypes.push_back(std::move(p));
+        }
+        for (const InstanceUse& u : m_d.instance_uses) {
+            auto it = proto_index.find(u.name);
+            if (it == proto_index.end())
+                throw_error(u.loc, "ObjectInstance \"{}\": no such object", u.name);
+            if (m_s.prototypes[it->second].shapes.empty()) continue;
+            m_s.instances.push_back({it->second, u.world_from_instance});
+        }
+    }
+
+public:
+    // ---- lights (after geometry: distant and infinite lights need the bounds) --------
+    void build_lights(Scene& s) {
+        Point3 center = s.bounds.empty() ? Point3(0, 0, 0) : s.bounds.center();
+        Float radius = s.bounds.empty() ? 1 : std::max(Float(1e-3), length(s.bounds.diagonal()) / 2);
+        for (const LightDesc& l : m_d.lights) add_light(s, l, center, radius);
+        for (auto [shape, al] : m_pending_area) add_area_light(s, shape, m_d.area_lights[al]);
+    }
+
+private:
+    Spectrum illum_param(const ParamSet& ps, std::string_view name) {
+        if (const Param* p = ps.find_spectrum(name))
+            return spectrum_from_param(*p, SpectrumKind::Illuminant, m_d.base_dir);
+        return srgb_illuminant();
+    }
+
+    static Float photometric_or_fail(const Spectrum& s, const SourceLoc& loc) {
+        Float y = spectrum_to_photometric(s);
+        if (!(y > 0)) throw_error(loc, "the light's spectrum has no visible (V(lambda)) content");
+        return y;
+    }
+
+    void add_light(Scene& s, const LightDesc& l, Point3 center, Float radius) {
+        const ParamSet& ps = l.params;
+        std::string what = fmt::format("LightSource \"{}\"", l.type);
+        const Transform& x = l.world_from_light;
+        if (l.type == "point") {
+            PointLight pl;
+            pl.intensity = densely_sampled(illum_param(ps, "I"));
+            Float sc = ps.get_float("scale", 1);
+            Float phi = ps.get_float("power", -1);
+            if (phi > 0) sc *= phi / (4 * kPi);
+            sc /= photometric_or_fail(pl.intensity, l.loc);
+            Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
+            pl.p = x.point(from);
+            pl.scale = sc;
+            ps.check_unused(what);
+            s.lights.push_back(pl);
+        } else if (l.type == "spot") {
+            SpotLight sl;
+            sl.intensity = densely_sampled(illum_param(ps, "I"));
+            Float sc = ps.get_float("scale", 1);
+            Float cone = ps.get_float("coneangle", 30), delta = ps.get_float("conedelta", 5);
+            sl.cos_falloff_end = std::cos(radians(cone));
+            sl.cos_falloff_start = std::cos(radians(cone - delta));
+            Float phi = ps.get_float("power", -1);
+            if (phi > 0) {
+                Float k_e = 2 * kPi * ((1 - sl.cos_falloff_start) +
+                                       (sl.cos_falloff_start - sl.cos_falloff_end) / 2);
+                sc *= phi / k_e;
+            }
+            sc /= photometric_or_fail(sl.intensity, l.loc);
+            Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
+            Point3 to = ps.find_point3("to").value_or(Point3(0, 0, 1));
+            Vec3 dir = to - from;
+            if (length(dir) == 0) throw_error(l.loc, "{}: \"from\" and \"to\" coincide", what);
+            // light space: +z along the cone axis, origin at `from`.
+            Frame f = Frame::from_z(normalize(dir));
+            Matrix4 m = Matrix4::identity();
+            for (int i = 0; i < 3; ++i) {
+                m.m[i][0] = f.s[i];
+                m.m[i][1] = f.t[i];
+                m.m[i][2] = f.n[i];
+                m.m[i][3] = from[i];
+            }
+            Transform world_from_spot = x * Transform(m);
+            sl.light_from_world = world_from_spot.inverse();
+            sl.p = world_from_spot.point(Point3(0, 0, 0));
+            sl.scale = sc;
+            ps.check_unused(what);
+            s.lights.push_back(sl);
+        } else if (l.type == "distant") {
+            DistantLight dl;
+            dl.radiance = densely_sampled(illum_param(ps, "L"));
+            Float sc = ps.get_float("scale", 1);
+            sc /= photometric_or_fail(dl.radiance, l.loc);
+            Float ev = ps.get_float("illuminance", -1);
+            if (ev > 0) sc *= ev;
+            Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
+            Point3 to = ps.find_point3("to").value_or(Point3(0, 0, 1));
+            Vec3 w = x.vector(from - to);
+            if (length(w) == 0) throw_error(l.loc, "{}: \"from\" and \"to\" coincide", what);
+            dl.w_light = normalize(w);
+            dl.scale = sc;
+            dl.scene_center = center;
+            dl.scene_radius = radius;
+            ps.check_unused(what);
+            s.lights.push_back(dl);
+        } else if (l.type == "infinite") {
+            if (ps.find("filename") || ps.find("portal"))
+                throw_error(l.loc, "{}: image-based (\"filename\") and portal infinite lights are "
+                                   "not supported yet",
+                            what);
+            UniformInfiniteLight il;
+            il.radiance = densely_sampled(illum_param(ps, "L"));
+            Float sc = ps.get_float("scale", 1);
+            sc /= photometric_or_fail(il.radiance, l.loc);
+            Float ev = ps.get_float("illuminance", -1);
+            if (ev > 0) sc *= ev / kPi;
+            il.scale = sc;
+            il.scene_center = center;
+            il.scene_radius = radius;
+            ps.check_unused(what);
+            s.infinite_lights.push_back(int(s.lights.size()));
+            s.lights.push_back(il);
+        } else {
+            throw_error(l.loc, "light type \"{}\" is not supported yet (see docs/pbrt-support.md)",
+                        l.type);
+        }
+    }
+
+    void add_area_light(Scene& s, int shape_index, const AreaLightDesc& a) {
+        if (a.type != "diffuse")
+            throw_error(a.loc, "area light type \"{}\" is not supported yet", a.type);
+        const ParamSet& ps = a.params;
+        if (ps.find("filename"))
+            throw_error(a.loc, "image-textured area lights (\"filename\") are not supported yet");
+        Spectrum L = densely_sampled(illum_param(ps, "L"));
+        Float sc = ps.get_float("scale", 1);
+        bool two_sided = ps.get_bool("twosided", false);
+        sc /= photometric_or_fail(L, a.loc);
+        Float phi = ps.get_float("power", -1);
+        ps.check_unused("AreaLightSource \"diffuse\"");
+        ShapeEntry& e = s.shapes[shape_index];
+        e.light_offset = int(s.lights.size());
+        auto make = [&](Float area) {
+            DiffuseAreaLight dl;
+            dl.radiance = L;
+            dl.two_sided = two_sided;
+            dl.area = area;
+            // pbrt-v4 applies "power" per emitting primitive (each triangle its own light).
+            dl.scale = phi > 0 ? sc * phi / ((two_sided ? 2 : 1) * area * kPi) : sc;
+            return dl;
+        };
+        if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
+            for (size_t i = 0; i < mesh->num_triangles(); ++i) {
+                DiffuseAreaLight dl = make(mesh->triangle_area(i));
+                dl.mesh = mesh;
+                dl.prim = uint32_t(i);
+                s.lights.push_back(dl);
+            }
+        } else if (auto* sp = std::get_if<Sphere>(&e.geometry)) {
+            DiffuseAreaLight dl = make(sp->area());
+            dl.sphere = sp;
+            s.lights.push_back(dl);
+        } else {
+            auto* d = std::get_if<Disk>(&e.geometry);
+            DiffuseAreaLight dl = make(d->area());
+            dl.disk = d;
+            s.lights.push_back(dl);
+        }
+    }
+
+    const SceneDesc& m_d;
+    BuildOptions m_o;
+    Scene m_s;
+    Float m_exposure_iso = 1;
+    std::map<std::string, std::shared_ptr<const TextureImage>> m_images;
+    std::map<std::string, int> m_float_tex, m_spec_tex;
+    std::vector<int> m_material_index;
+    int m_default_material = -1;
+    std::vector<std::pair<int, int>> m_pending_area;  ///< (shape, area light desc)
+};
+
+}  // namespace
+
+Scene build_scene(const SceneDesc& desc, const BuildOptions& options) {
+    Builder b(desc, options);
+    Scene s = b.build();
+    s.finalize_geometry();
+    b.build_lights(s);
+    s.finalize_lights();
+    return s;
+}
+
+}  // namespace sr

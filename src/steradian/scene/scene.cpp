@@ -1,0 +1,23 @@
+#include "steradian/scene/scene.h"
+
+#include "steradian/accel/accel.h"
+
+namespace sr {
+
+Scene::Scene() = default;
+Scene::~Scene() = default;
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+
+void Scene::finalize_geometry() {
+    m_accel = std::make_unique<Accel>(*this);
+    bounds = m_accel->bounds();
+}
+
+void Scene::finalize_lights() { light_sampler.build(lights, integrator.light_sampler == "power"); }
+
+bool Scene::intersect(const Ray& ray, SurfaceHit& h) const { return m_accel->intersect(ray, h); }
+
+bool Scene::occluded(const Ray& ray) const { return m_accel->occluded(ray); }
+
+}  // namespace sr

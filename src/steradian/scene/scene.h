@@ -1,0 +1,100 @@
+#pragma once
+/// The flat runtime scene: vectors of shapes, materials, textures and lights with integer
+/// ids between them, one Embree acceleration structure, the camera and render settings.
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "steradian/camera/camera.h"
+#include "steradian/film/film.h"
+#include "steradian/film/filter.h"
+#include "steradian/geometry/shapes.h"
+#include "steradian/lights/light.h"
+#include "steradian/lights/light_sampler.h"
+#include "steradian/material/material.h"
+
+namespace sr {
+
+class Accel;
+
+using ShapeGeometry = std::variant<TriangleMesh, Sphere, Disk>;
+
+struct ShapeEntry {
+    ShapeGeometry geometry;
+    int material = -1;     ///< index into Scene::materials; -1 = interface
+    int light_offset = -1; ///< first light of this shape (one per triangle), or -1
+};
+
+/// ObjectBegin/ObjectEnd: shapes in their own space, instanced by Embree.
+struct Prototype {
+    std::string name;
+    std::vector<int> shapes;
+};
+
+struct Instance {
+    int prototype = -1;
+    Transform world_from_instance;
+};
+
+struct SamplerSettings {
+    std::string type = "zsobol";
+    int spp = 16;
+    int x_samples = 4, y_samples = 4;
+    bool jitter = true;
+    uint64_t seed = 0;
+};
+
+/// Which strategies the path integrator combines.
+enum class LightStrategy { Mis, BsdfOnly, LightOnly };
+
+struct IntegratorSettings {
+    std::string type = "path";
+    int max_depth = 5;
+    LightStrategy strategy = LightStrategy::Mis;
+    bool regularize = false;
+    std::string light_sampler = "power";
+};
+
+class Scene {
+public:
+    Scene();
+    ~Scene();
+    Scene(Scene&&) noexcept;
+    Scene& operator=(Scene&&) noexcept;
+
+    std::vector<ShapeEntry> shapes;
+    std::vector<int> top_level_shapes;  ///< shapes in world space (not in prototypes)
+    std::vector<Prototype> prototypes;
+    std::vector<Instance> instances;
+    std::vector<Material> materials;
+    std::vector<SpectrumTexture> spectrum_textures;
+    std::vector<FloatTexture> float_textures;
+    std::vector<Light> lights;
+    std::vector<int> infinite_lights;  ///< lights with radiance at infinity (escaping rays)
+    LightSampler light_sampler;
+
+    std::unique_ptr<Camera> camera;
+    FilmParams film;
+    std::unique_ptr<Filter> filter;
+    SamplerSettings sampler;
+    IntegratorSettings integrator;
+
+    Bounds3 bounds;  ///< world bounds of all geometry
+
+    /// Builds the acceleration structure and computes `bounds`; call once the shapes and
+    /// instances are final.
+    void finalize_geometry();
+    /// Builds the light sampler; call once the lights are final.
+    void finalize_lights();
+    /// Closest hit along the ray in (0, ray.t_max); fills h (position, normals, uv, ids).
+    bool intersect(const Ray& ray, SurfaceHit& h) const;
+    /// True if anything blocks the ray in (0, ray.t_max).
+    bool occluded(const Ray& ray) const;
+    MaterialContext material_context() const { return {&spectrum_textures, &float_textures}; }
+
+private:
+    std::unique_ptr<Accel> m_accel;
+};
+
+}  // namespace sr
