@@ -1,0 +1,227 @@
+#include "steradian/sampling/hash.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <set>
+#include <vector>
+
+#include "steradian/sampling/rng.h"
+#include "steradian/sampling/sobol.h"
+#include "steradian/sampling/stats.h"
+#include "steradian/sampling/test_util.h"
+
+namespace sr {
+namespace {
+
+constexpr double kAlpha = 1e-3;
+
+TEST(Hash, MixBitsIsTheSplitmix64Finalizer) {
+    // First output of Vigna's reference splitmix64.c seeded with 1234567: the finalizer
+    // applied to the seed plus one Weyl increment.
+    EXPECT_EQ(mix_bits(1234567 + kGolden64), 6457827717110365317ULL);
+    EXPECT_EQ(hash_combine(1234567, 0), 6457827717110365317ULL);
+}
+
+TEST(Hash, MixBitsAvalanche) {
+    // Flipping any input bit flips each output bit with probability 1/2: count flips of
+    // every (input bit, output bit) pair over random inputs and z-test each against n/2
+    // (Sidak-corrected over the 4096 pairs).
+    Pcg32 rng(3, 4);
+    const int n = 4000;
+    std::vector<int> flips(64 * 64, 0);
+    for (int s = 0; s < n; ++s) {
+        uint64_t x = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
+        uint64_t hx = mix_bits(x);
+        for (int i = 0; i < 64; ++i) {
+            uint64_t d = hx ^ mix_bits(x ^ (uint64_t(1) << i));
+            for (int j = 0; j < 64; ++j) flips[std::size_t(i * 64 + j)] += int((d >> j) & 1);
+        }
+    }
+    double alpha = sidak_alpha(kAlpha, 64 * 64);
+    for (int k = 0; k < 64 * 64; ++k) {
+        EXPECT_GT(z_test_p(flips[std::size_t(k)] / double(n), 0.5, std::sqrt(0.25 / n)), alpha)
+            << "input bit " << k / 64 << " output bit " << k % 64;
+    }
+}
+
+TEST(Hash, HashOfBytesIsAFunctionOfAllArguments) {
+    EXPECT_EQ(hash(Vec2i(3, 4), uint64_t(5)), hash(Vec2i(3, 4), uint64_t(5)));
+    EXPECT_NE(hash(Vec2i(3, 4), uint64_t(5)), hash(Vec2i(4, 3), uint64_t(5)));
+    EXPECT_NE(hash(Vec2i(3, 4), uint64_t(5)), hash(Vec2i(3, 4), uint64_t(6)));
+    EXPECT_NE(hash(1, 2), hash(2, 1));
+    // Same bytes, same hash, however they are split into arguments.
+    EXPECT_EQ(hash(Vec2i(1, 2)), hash(int32_t(1), int32_t(2)));
+    // Lengths not a multiple of 8 use the tail bytes.
+    EXPECT_NE(hash(uint8_t(1), uint8_t(2), uint8_t(3)), hash(uint8_t(1), uint8_t(2), uint8_t(4)));
+    // No collisions over a block of pixels.
+    std::set<uint64_t> seen;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) seen.insert(hash(Vec2i(x, y), uint64_t(0)));
+    EXPECT_EQ(seen.size(), 64u * 64u);
+}
+
+TEST(Hash, PermutationElementIsAPermutation) {
+    for (uint32_t n : {1u, 2u, 3u, 5u, 16u, 17u, 100u, 255u, 256u, 1000u, 4097u}) {
+        for (uint32_t seed : {0u, 1u, 0xdeadbeefu, 123456789u}) {
+            std::vector<int> hit(n, 0);
+            for (uint32_t i = 0; i < n; ++i) {
+                uint32_t p = permutation_element(i, n, seed);
+                ASSERT_LT(p, n);
+                ++hit[p];
+            }
+            EXPECT_TRUE(std::all_of(hit.begin(), hit.end(), [](int h) { return h == 1; }))
+                << "n " << n << " seed " << seed;
+        }
+    }
+}
+
+TEST(Hash, PermutationElementIsUniformOverSeeds) {
+    // The image of a fixed element over random seeds is uniform on [0, n).
+    Pcg32 rng(8, 8);
+    const uint32_t n = 12;
+    const int trials = 120000;
+    for (uint32_t i : {0u, 5u, 11u}) {
+        std::vector<double> observed(n, 0.0), expected(n, double(trials) / n);
+        for (int t = 0; t < trials; ++t) observed[permutation_element(i, n, rng.next_u32())] += 1;
+        EXPECT_GT(chi2_test(observed, expected).p_value, kAlpha) << "element " << i;
+    }
+}
+
+TEST(Hash, ReverseBits) {
+    EXPECT_EQ(reverse_bits32(1u), 0x80000000u);
+    EXPECT_EQ(reverse_bits32(0x0000f00fu), 0xf00f0000u);
+    EXPECT_EQ(reverse_bits64(1ULL), 0x8000000000000000ULL);
+    Pcg32 rng(1, 1);
+    for (int i = 0; i < 1000; ++i) {
+        uint32_t v = rng.next_u32();
+        EXPECT_EQ(reverse_bits32(reverse_bits32(v)), v);
+        EXPECT_EQ(std::popcount(reverse_bits32(v)), std::popcount(v));
+        // Bit k goes to bit 31 - k.
+        for (int k = 0; k < 32; k += 7) EXPECT_EQ((v >> k) & 1, (reverse_bits32(v) >> (31 - k)) & 1);
+    }
+}
+
+TEST(Hash, OwenScrambleIsNestedAndBijective) {
+    Pcg32 rng(21, 22);
+    for (int trial = 0; trial < 20; ++trial) {
+        uint32_t seed = rng.next_u32();
+        // Bijective on each level of dyadic intervals: the top 12 bits of scrambled interval
+        // starts are all distinct.
+        std::set<uint32_t> tops;
+        for (uint32_t k = 0; k < 4096; ++k) tops.insert(owen_scramble(k << 20, seed) >> 20);
+        EXPECT_EQ(tops.size(), 4096u);
+        // Nested: values sharing their top j bits (the same interval of size 2^-j) still share
+        // their top j bits after scrambling.
+        for (int s = 0; s < 200; ++s) {
+            uint32_t a = rng.next_u32(), b = rng.next_u32();
+            int j = int(rng.next_u32(31)) + 1;
+            uint32_t mask = ~0u << (32 - j);
+            b = (a & mask) | (b & ~mask);
+            EXPECT_EQ(owen_scramble(a, seed) & mask, owen_scramble(b, seed) & mask);
+        }
+    }
+}
+
+TEST(Hash, OwenScrambleIsUniformOverSeeds) {
+    // Owen scrambling makes every point uniformly distributed: the scrambled value of a fixed
+    // point over random seeds, histogrammed in 64 bins.
+    Pcg32 rng(5, 55);
+    const int trials = 64000;
+    for (uint32_t v : {0u, 0x80000000u, 0x12345678u}) {
+        std::vector<double> observed(64, 0.0), expected(64, trials / 64.0);
+        for (int t = 0; t < trials; ++t) observed[owen_scramble(v, rng.next_u32()) >> 26] += 1;
+        EXPECT_GT(chi2_test(observed, expected).p_value, kAlpha) << std::hex << v;
+    }
+}
+
+TEST(Hash, NestedUniformShuffleKeepsAlignedBlocks) {
+    Pcg32 rng(31, 41);
+    for (int m = 0; m <= 10; ++m) {
+        uint32_t seed = rng.next_u32();
+        std::set<uint32_t> out;
+        for (uint32_t i = 0; i < (1u << m); ++i) out.insert(nested_uniform_shuffle(i, seed));
+        ASSERT_EQ(out.size(), std::size_t(1) << m);
+        // All in one aligned block of 2^m indices.
+        EXPECT_EQ(*out.begin() >> m, *out.rbegin() >> m);
+    }
+}
+
+TEST(Sobol, SecondDimensionIsPascalMod2) {
+    // Column j of the generator matrix is the image of index 2^j. Build binom(j, i) mod 2 with
+    // Pascal's rule binom(j, i) = binom(j-1, i-1) + binom(j-1, i) and compare (rows i < 32).
+    std::vector<std::vector<int>> pascal(64, std::vector<int>(64, 0));
+    for (int j = 0; j < 64; ++j) {
+        pascal[std::size_t(j)][0] = 1;
+        for (int i = 1; i <= j; ++i) {
+            pascal[std::size_t(j)][std::size_t(i)] =
+                (pascal[std::size_t(j - 1)][std::size_t(i - 1)] +
+                 pascal[std::size_t(j - 1)][std::size_t(i)]) %
+                2;
+        }
+    }
+    for (int j = 0; j < 64; ++j) {
+        uint32_t column = 0;
+        for (int i = 0; i < 32; ++i) {
+            if (pascal[std::size_t(j)][std::size_t(i)]) column |= 1u << (31 - i);
+        }
+        EXPECT_EQ(sobol_u32_dim1(uint64_t(1) << j), column) << "column " << j;
+    }
+    // Linear over GF(2).
+    Pcg32 rng(2, 3);
+    for (int t = 0; t < 1000; ++t) {
+        uint64_t a = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
+        uint64_t b = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
+        EXPECT_EQ(sobol_u32_dim1(a ^ b), sobol_u32_dim1(a) ^ sobol_u32_dim1(b));
+    }
+}
+
+TEST(Sobol, FirstDimensionIsVanDerCorput) {
+    // Radical inverse in base 2: 1 -> 1/2, 2 -> 1/4, 3 -> 3/4, 6 -> 3/8.
+    EXPECT_EQ(sobol_u32_dim0(1), 0x80000000u);
+    EXPECT_EQ(sobol_u32_dim0(2), 0x40000000u);
+    EXPECT_EQ(sobol_u32_dim0(3), 0xc0000000u);
+    EXPECT_EQ(sobol_u32_dim0(6), 0x60000000u);
+}
+
+std::vector<Point2> sobol_block(uint64_t start, int m, Randomization r, uint64_t key) {
+    std::vector<Point2> pts;
+    for (uint64_t a = start; a < start + (uint64_t(1) << m); ++a) {
+        pts.push_back({u32_to_unit_float(randomize(sobol_u32_dim0(a), r, uint32_t(key))),
+                       u32_to_unit_float(randomize(sobol_u32_dim1(a), r, uint32_t(key >> 32)))});
+    }
+    return pts;
+}
+
+TEST(Sobol, AlignedBlocksAreZeroTwoNets) {
+    Pcg32 rng(6, 7);
+    for (Randomization r : {Randomization::kNone, Randomization::kXor, Randomization::kOwen}) {
+        for (int m = 0; m <= 12; ++m) {
+            for (uint64_t block : {uint64_t(0), uint64_t(1), uint64_t(37), uint64_t(1) << 20}) {
+                uint64_t key = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
+                EXPECT_EQ(testing::check_02_net(sobol_block(block << m, m, r, key)), "")
+                    << "m " << m << " block " << block << " randomization " << to_string(r);
+            }
+        }
+    }
+    // An unaligned block is not a net in general: indices 1..4 put two points in [0, 1/2) in
+    // x ((1/2, 1/2), (1/4, 3/4), (3/4, 1/4), (1/8, 5/8): x = 1/4 and 1/8 both below 1/2).
+    EXPECT_NE(testing::check_02_net(sobol_block(1, 2, Randomization::kNone, 0)), "");
+}
+
+TEST(Morton, InterleavesBits) {
+    Pcg32 rng(4, 4);
+    for (int t = 0; t < 1000; ++t) {
+        uint32_t x = rng.next_u32(), y = rng.next_u32();
+        uint64_t expected = 0;
+        for (int b = 0; b < 32; ++b) {
+            expected |= uint64_t((x >> b) & 1) << (2 * b);
+            expected |= uint64_t((y >> b) & 1) << (2 * b + 1);
+        }
+        EXPECT_EQ(encode_morton2(x, y), expected);
+    }
+}
+
+}  // namespace
+}  // namespace sr
