@@ -15,10 +15,10 @@ namespace sr {
 
 /// An indexed triangle mesh in the file's own (object) space.
 struct TriangleMeshData {
-    std::vector<Point3> p;         ///< vertex positions
-    std::vector<Normal3> n;        ///< empty, or one (not necessarily unit) normal per vertex
-    std::vector<Point2> uv;        ///< empty, or one texture coordinate per vertex
-    std::vector<int> indices;      ///< 3 vertex indices per triangle
+    std::vector<Point3> p;          ///< vertex positions
+    std::vector<Normal3> n;         ///< empty, or one (not necessarily unit) normal per vertex
+    std::vector<Point2> uv;         ///< empty, or one texture coordinate per vertex
+    std::vector<int> indices;       ///< 3 vertex indices per triangle
     std::vector<int> face_indices;  ///< empty, or one "face_indices" value per triangle
 
     std::size_t triangle_count() const { return indices.size() / 3; }
@@ -44,8 +44,8 @@ inline void validate(const TriangleMeshData& mesh, std::string_view name) {
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
         const int v = mesh.indices[i];
         if (v < 0 || static_cast<std::size_t>(v) >= nv)
-            fail(fmt::format("triangle {} references vertex {} but there are {} vertices", i / 3,
-                             v, nv));
+            fail(fmt::format("triangle {} references vertex {} but there are {} vertices", i / 3, v,
+                             nv));
     }
     auto finite3 = [](const Vec3& v) {
         return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -63,8 +63,8 @@ inline void validate(const TriangleMeshData& mesh, std::string_view name) {
     for (std::size_t i = 0; i < mesh.uv.size(); ++i) {
         const Point2& q = mesh.uv[i];
         if (!std::isfinite(q.x) || !std::isfinite(q.y))
-            fail(fmt::format("vertex {} has a non-finite texture coordinate ({}, {})", i, q.x,
-                             q.y));
+            fail(
+                fmt::format("vertex {} has a non-finite texture coordinate ({}, {})", i, q.x, q.y));
     }
 }
 

@@ -49,13 +49,17 @@ bool parse_type(std::string_view s, Type& t) {
 constexpr std::size_t type_size(Type t) {
     switch (t) {
         case Type::Int8:
-        case Type::UInt8: return 1;
+        case Type::UInt8:
+            return 1;
         case Type::Int16:
-        case Type::UInt16: return 2;
+        case Type::UInt16:
+            return 2;
         case Type::Int32:
         case Type::UInt32:
-        case Type::Float32: return 4;
-        case Type::Float64: return 8;
+        case Type::Float32:
+            return 4;
+        case Type::Float64:
+            return 8;
     }
     return 1;
 }
@@ -64,21 +68,31 @@ constexpr bool is_integer(Type t) { return t != Type::Float32 && t != Type::Floa
 
 constexpr std::int64_t type_min(Type t) {
     switch (t) {
-        case Type::Int8: return std::numeric_limits<std::int8_t>::min();
-        case Type::Int16: return std::numeric_limits<std::int16_t>::min();
-        case Type::Int32: return std::numeric_limits<std::int32_t>::min();
-        default: return 0;
+        case Type::Int8:
+            return std::numeric_limits<std::int8_t>::min();
+        case Type::Int16:
+            return std::numeric_limits<std::int16_t>::min();
+        case Type::Int32:
+            return std::numeric_limits<std::int32_t>::min();
+        default:
+            return 0;
     }
 }
 
 constexpr std::int64_t type_max(Type t) {
     switch (t) {
-        case Type::Int8: return std::numeric_limits<std::int8_t>::max();
-        case Type::UInt8: return std::numeric_limits<std::uint8_t>::max();
-        case Type::Int16: return std::numeric_limits<std::int16_t>::max();
-        case Type::UInt16: return std::numeric_limits<std::uint16_t>::max();
-        case Type::Int32: return std::numeric_limits<std::int32_t>::max();
-        default: return std::numeric_limits<std::uint32_t>::max();
+        case Type::Int8:
+            return std::numeric_limits<std::int8_t>::max();
+        case Type::UInt8:
+            return std::numeric_limits<std::uint8_t>::max();
+        case Type::Int16:
+            return std::numeric_limits<std::int16_t>::max();
+        case Type::UInt16:
+            return std::numeric_limits<std::uint16_t>::max();
+        case Type::Int32:
+            return std::numeric_limits<std::int32_t>::max();
+        default:
+            return std::numeric_limits<std::uint32_t>::max();
     }
 }
 
@@ -129,7 +143,8 @@ struct Element {
         return nullptr;
     }
     bool all_scalar() const {
-        return std::none_of(props.begin(), props.end(), [](const Property& p) { return p.is_list; });
+        return std::none_of(props.begin(), props.end(),
+                            [](const Property& p) { return p.is_list; });
     }
 };
 
@@ -240,13 +255,11 @@ Header parse_header(std::string_view bytes, const std::string& name) {
             p.line = line_no;
             if (w.size() >= 2 && w[1] == "list") {
                 if (w.size() != 5)
-                    fail(name, line_no,
-                         "expected 'property list <count type> <item type> <name>'");
+                    fail(name, line_no, "expected 'property list <count type> <item type> <name>'");
                 if (!parse_type(w[2], p.count_type))
                     fail(name, line_no, "unknown property type '{}'", clip(w[2]));
                 if (!is_integer(p.count_type))
-                    fail(name, line_no, "list count type '{}' is not an integer type",
-                         clip(w[2]));
+                    fail(name, line_no, "list count type '{}' is not an integer type", clip(w[2]));
                 if (!parse_type(w[3], p.type))
                     fail(name, line_no, "unknown property type '{}'", clip(w[3]));
                 p.is_list = true;
@@ -342,16 +355,19 @@ void resolve_roles(Header& h, const std::string& name) {
     if (!vi->is_list)
         fail(name, vi->line, "property '{}' of element 'face' is not a list", vi->name);
     if (!is_integer(vi->type))
-        fail(name, vi->line, "property '{}' of element 'face' has non-integer type '{}'",
-             vi->name, type_name(vi->type));
+        fail(name, vi->line, "property '{}' of element 'face' has non-integer type '{}'", vi->name,
+             type_name(vi->type));
     vi->role = kVertexIndices;
     if (Property* fi = f.find("face_indices")) {
         if (fi->is_list)
-            fail(name, fi->line, "property 'face_indices' of element 'face' is a list, "
-                                 "expected a scalar");
+            fail(name, fi->line,
+                 "property 'face_indices' of element 'face' is a list, "
+                 "expected a scalar");
         if (!is_integer(fi->type))
-            fail(name, fi->line, "property 'face_indices' of element 'face' has non-integer "
-                                 "type '{}'", type_name(fi->type));
+            fail(name, fi->line,
+                 "property 'face_indices' of element 'face' has non-integer "
+                 "type '{}'",
+                 type_name(fi->type));
         fi->role = kFaceIndex;
         h.has_face_indices = true;
     }
@@ -365,9 +381,9 @@ template <typename T, bool Swap>
 inline T load(const char* p) {
     T v;
     if constexpr (Swap && sizeof(T) > 1) {
-        using U = std::conditional_t<sizeof(T) == 2, std::uint16_t,
-                                     std::conditional_t<sizeof(T) == 4, std::uint32_t,
-                                                        std::uint64_t>>;
+        using U =
+            std::conditional_t<sizeof(T) == 2, std::uint16_t,
+                               std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>;
         U u;
         std::memcpy(&u, p, sizeof(U));
         if constexpr (sizeof(T) == 2) {
@@ -387,14 +403,22 @@ inline T load(const char* p) {
 template <bool Swap>
 inline double load_as_double(const char* p, Type t) {
     switch (t) {
-        case Type::Int8: return load<std::int8_t, Swap>(p);
-        case Type::UInt8: return load<std::uint8_t, Swap>(p);
-        case Type::Int16: return load<std::int16_t, Swap>(p);
-        case Type::UInt16: return load<std::uint16_t, Swap>(p);
-        case Type::Int32: return load<std::int32_t, Swap>(p);
-        case Type::UInt32: return load<std::uint32_t, Swap>(p);
-        case Type::Float32: return load<float, Swap>(p);
-        case Type::Float64: return load<double, Swap>(p);
+        case Type::Int8:
+            return load<std::int8_t, Swap>(p);
+        case Type::UInt8:
+            return load<std::uint8_t, Swap>(p);
+        case Type::Int16:
+            return load<std::int16_t, Swap>(p);
+        case Type::UInt16:
+            return load<std::uint16_t, Swap>(p);
+        case Type::Int32:
+            return load<std::int32_t, Swap>(p);
+        case Type::UInt32:
+            return load<std::uint32_t, Swap>(p);
+        case Type::Float32:
+            return load<float, Swap>(p);
+        case Type::Float64:
+            return load<double, Swap>(p);
     }
     return 0;
 }
@@ -403,20 +427,27 @@ inline double load_as_double(const char* p, Type t) {
 template <bool Swap>
 inline std::int64_t load_as_int(const char* p, Type t) {
     switch (t) {
-        case Type::Int8: return load<std::int8_t, Swap>(p);
-        case Type::UInt8: return load<std::uint8_t, Swap>(p);
-        case Type::Int16: return load<std::int16_t, Swap>(p);
-        case Type::UInt16: return load<std::uint16_t, Swap>(p);
-        case Type::Int32: return load<std::int32_t, Swap>(p);
-        case Type::UInt32: return load<std::uint32_t, Swap>(p);
-        default: return 0;
+        case Type::Int8:
+            return load<std::int8_t, Swap>(p);
+        case Type::UInt8:
+            return load<std::uint8_t, Swap>(p);
+        case Type::Int16:
+            return load<std::int16_t, Swap>(p);
+        case Type::UInt16:
+            return load<std::uint16_t, Swap>(p);
+        case Type::Int32:
+            return load<std::int32_t, Swap>(p);
+        case Type::UInt32:
+            return load<std::uint32_t, Swap>(p);
+        default:
+            return 0;
     }
 }
 
 /// Bounds-checked cursor over binary data; Swap when the file's byte order is not native.
 template <bool Swap>
 class BinaryReader {
-public:
+  public:
     static constexpr bool kBinary = true;
     static constexpr bool kSwap = Swap;
     BinaryReader(const char* begin, const char* end) : m_p(begin), m_end(end) {}
@@ -450,7 +481,7 @@ public:
     std::string_view token() const { return {}; }
     std::string expected() const { return {}; }
 
-private:
+  private:
     const char* m_p;
     const char* m_end;
 };
@@ -487,10 +518,12 @@ bool parse_int_token(std::string_view tok, Type t, std::int64_t& v) {
 
 /// Whitespace-separated tokens; counts lines for messages.
 class AsciiReader {
-public:
+  public:
     static constexpr bool kBinary = false;
     AsciiReader(const char* begin, const char* end, int line)
         : m_p(begin), m_end(end), m_line(line), m_tok_line(line) {}
+
+    std::size_t remaining() const { return static_cast<std::size_t>(m_end - m_p); }
 
     Status next_token() {
         while (m_p < m_end) {
@@ -526,8 +559,8 @@ public:
             if (!parse_int_token(m_tok, t, v)) return bad(t);
         } else {
             double d;
-            if (!parse_float_token(m_tok, t, d)) return bad(t);
-            v = static_cast<std::int64_t>(std::clamp(d, -9e18, 9e18));
+            if (!parse_float_token(m_tok, t, d) || !(std::abs(d) <= 9e18)) return bad(t);
+            v = static_cast<std::int64_t>(d);
         }
         return Status::Ok;
     }
@@ -547,7 +580,7 @@ public:
         return "a number";
     }
 
-private:
+  private:
     static bool is_space(char c) {
         return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
     }
@@ -594,8 +627,7 @@ template <class R>
 }
 
 [[noreturn]] void fail_face_index(const Context& c, std::int64_t f, std::int64_t v) {
-    fail(c.name, 0, "face {} references vertex {} but there are {} vertices", f, v,
-         c.num_vertices);
+    fail(c.name, 0, "face {} references vertex {} but there are {} vertices", f, v, c.num_vertices);
 }
 
 /// Reads or skips any element, one property at a time.
@@ -605,6 +637,27 @@ void read_generic(R& r, const Element& e, Context& c) {
     TriangleMeshData& m = c.mesh;
     const bool is_vertex = &e == &c.h.elements[c.h.vertex_element];
     const bool is_face = &e == &c.h.elements[c.h.face_element];
+    if (is_vertex || is_face) {
+        // Reserve for the items the remaining bytes can hold at most (counts may be lies).
+        std::size_t min_item_bytes = 0;
+        for (const Property& p : e.props) {
+            if constexpr (R::kBinary) {
+                min_item_bytes += type_size(p.is_list ? p.count_type : p.type);
+            } else {
+                min_item_bytes += 2;  // a digit and a separator
+            }
+        }
+        const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(e.count),
+                                                    r.remaining() / min_item_bytes + 1);
+        if (is_vertex) {
+            m.p.reserve(n);
+            if (c.h.has_normals) m.n.reserve(n);
+            if (c.h.has_uv) m.uv.reserve(n);
+        } else {
+            m.indices.reserve(m.indices.size() + 3 * n);
+            if (c.h.has_face_indices) m.face_indices.reserve(m.face_indices.size() + n);
+        }
+    }
     double vals[kNumVertexRoles] = {};
     std::int64_t idx[4] = {};
     for (std::int64_t i = 0; i < e.count; ++i) {
@@ -739,9 +792,9 @@ void read_faces_fast(BinaryReader<Swap>& r, const Element& e, Context& c) {
                 load<std::uint32_t, Swap>(p + 1), load<std::uint32_t, Swap>(p + 5),
                 load<std::uint32_t, Swap>(p + 9), load<std::uint32_t, Swap>(p + 13)};
             check(f, v, 4);
-            out.insert(out.end(), {static_cast<int>(v[0]), static_cast<int>(v[1]),
-                                   static_cast<int>(v[2]), static_cast<int>(v[0]),
-                                   static_cast<int>(v[2]), static_cast<int>(v[3])});
+            out.insert(out.end(),
+                       {static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]),
+                        static_cast<int>(v[0]), static_cast<int>(v[2]), static_cast<int>(v[3])});
             p += kTri + 4;
         } else {
             fail_face_size(c, f, k);
@@ -801,8 +854,7 @@ TriangleMeshData parse_ply(std::string_view bytes, const std::string& name) {
         AsciiReader r(begin, end, h.data_line);
         read_body(r, c);
         if (r.next_token() == Status::Ok)
-            fail(name, r.line(), "unexpected data after the last element: '{}'",
-                 clip(r.token()));
+            fail(name, r.line(), "unexpected data after the last element: '{}'", clip(r.token()));
     } else {
         std::size_t rest = 0;
         if (h.format == Format::BinaryLittleEndian) {

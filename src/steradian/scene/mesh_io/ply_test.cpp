@@ -23,21 +23,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// ---- a small PLY writer for the tests ------------------------------------------------------------
+// ---- a small PLY writer for the tests
+// ------------------------------------------------------------
 
 enum class PlyFormat { Ascii, BinaryLittleEndian, BinaryBigEndian };
 
 const char* format_keyword(PlyFormat f) {
     switch (f) {
-        case PlyFormat::Ascii: return "ascii";
-        case PlyFormat::BinaryLittleEndian: return "binary_little_endian";
-        case PlyFormat::BinaryBigEndian: return "binary_big_endian";
+        case PlyFormat::Ascii:
+            return "ascii";
+        case PlyFormat::BinaryLittleEndian:
+            return "binary_little_endian";
+        case PlyFormat::BinaryBigEndian:
+            return "binary_big_endian";
     }
     return "";
 }
 
 struct PlyProp {
-    std::string type;        ///< scalar type, or the list's item type
+    std::string type;  ///< scalar type, or the list's item type
     std::string name;
     std::string count_type;  ///< empty for a scalar property
 };
@@ -94,8 +98,8 @@ void put_value(std::string& out, PlyFormat f, const std::string& type, double v)
 }
 
 std::string write_header(PlyFormat f, const std::vector<PlyElem>& elems) {
-    std::string out = fmt::format("ply\nformat {} 1.0\ncomment written by ply_test\n",
-                                  format_keyword(f));
+    std::string out =
+        fmt::format("ply\nformat {} 1.0\ncomment written by ply_test\n", format_keyword(f));
     for (const PlyElem& e : elems) {
         out += fmt::format("element {} {}\n", e.name, e.rows.size());
         for (const PlyProp& p : e.props) {
@@ -149,8 +153,8 @@ const std::vector<int> kQuadIndices = {0, 1, 2, 0, 2, 3};
 /// A per-test file path under the temp dir (tests may run as parallel processes).
 std::string temp_path(const std::string& suffix = "") {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string n = fmt::format("steradian_ply_{}_{}{}", info->test_suite_name(), info->name(),
-                                suffix);
+    std::string n =
+        fmt::format("steradian_ply_{}_{}{}", info->test_suite_name(), info->name(), suffix);
     std::replace(n.begin(), n.end(), '/', '_');
     return (fs::temp_directory_path() / (n + ".ply")).string();
 }
@@ -182,7 +186,8 @@ void expect_error(const std::string& bytes, const std::string& expected) {
     } catch (const Error& e) {
         const std::string msg = e.what();
         EXPECT_EQ(msg.rfind(path + ":", 0), 0u) << msg;
-        EXPECT_NE(msg.find(want), std::string::npos) << "message: " << msg << "\nexpected: " << want;
+        EXPECT_NE(msg.find(want), std::string::npos)
+            << "message: " << msg << "\nexpected: " << want;
     }
     fs::remove(path);
 }
@@ -250,8 +255,14 @@ PlyElem full_vertex_element(const RandomGrid& g, const std::string& type = "floa
                {type, "v", ""}},
               {}};
     for (std::size_t i = 0; i < g.p.size(); ++i)
-        e.rows.push_back({{g.p[i].x}, {g.p[i].y}, {g.p[i].z}, {g.n[i].x}, {g.n[i].y},
-                          {g.n[i].z}, {g.uv[i].x}, {g.uv[i].y}});
+        e.rows.push_back({{g.p[i].x},
+                          {g.p[i].y},
+                          {g.p[i].z},
+                          {g.n[i].x},
+                          {g.n[i].y},
+                          {g.n[i].z},
+                          {g.uv[i].x},
+                          {g.uv[i].y}});
     return e;
 }
 
@@ -319,8 +330,18 @@ TEST_P(PlyFormats, SkipsUnknownElementsAndProperties) {
               {}};
     for (std::size_t i = 0; i < g.p.size(); ++i) {
         std::vector<double> tags(i % 3, 7.0);
-        v.rows.push_back({{255}, {double(i)}, {3}, {g.p[i].x}, {0.25}, {g.p[i].y}, tags,
-                          {g.p[i].z}, {g.n[i].x}, {g.n[i].y}, {g.n[i].z}, {-3}});
+        v.rows.push_back({{255},
+                          {double(i)},
+                          {3},
+                          {g.p[i].x},
+                          {0.25},
+                          {g.p[i].y},
+                          tags,
+                          {g.p[i].z},
+                          {g.n[i].x},
+                          {g.n[i].y},
+                          {g.n[i].z},
+                          {-3}});
     }
     PlyElem f{"face",
               {{"uchar", "flags", ""},
@@ -358,9 +379,9 @@ TEST_P(PlyFormats, FaceIndicesFollowQuadSplit) {
 
 TEST_P(PlyFormats, EveryScalarTypeForPositions) {
     const std::vector<Point3> p = {{1, 2, 3}, {100, 0, 50}, {7, 9, 11}};
-    for (const char* type : {"char", "uchar", "short", "ushort", "int", "uint", "float", "double",
-                             "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32",
-                             "float64"}) {
+    for (const char* type :
+         {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
+          "int16", "uint16", "int32", "uint32", "float32", "float64"}) {
         SCOPED_TRACE(type);
         const TriangleMeshData m =
             read_bytes(write_ply(GetParam(), {vertex_element(p, type), face_element({{0, 1, 2}})}));
@@ -370,14 +391,14 @@ TEST_P(PlyFormats, EveryScalarTypeForPositions) {
 
 TEST_P(PlyFormats, FaceListTypes) {
     const std::pair<const char*, const char*> types[] = {
-        {"uchar", "int"},   {"uchar", "uint"},   {"ushort", "uint"}, {"uint", "int"},
-        {"char", "short"},  {"uchar", "uchar"},  {"int", "ushort"},  {"uint8", "int32"},
+        {"uchar", "int"},     {"uchar", "uint"},  {"ushort", "uint"}, {"uint", "int"},
+        {"char", "short"},    {"uchar", "uchar"}, {"int", "ushort"},  {"uint8", "int32"},
         {"uint16", "uint16"}, {"int32", "uint32"}};
     for (const auto& [count_type, index_type] : types) {
         SCOPED_TRACE(fmt::format("{} {}", count_type, index_type));
         const TriangleMeshData m = read_bytes(write_ply(
-            GetParam(), {vertex_element(kQuadP), face_element({{0, 1, 2, 3}, {3, 1, 2}},
-                                                              count_type, index_type)}));
+            GetParam(), {vertex_element(kQuadP),
+                         face_element({{0, 1, 2, 3}, {3, 1, 2}}, count_type, index_type)}));
         EXPECT_EQ(m.indices, (std::vector<int>{0, 1, 2, 0, 2, 3, 3, 1, 2}));
     }
 }
@@ -393,8 +414,8 @@ TEST_P(PlyFormats, VertexIndexAliasAndUvAliases) {
             v.rows[i].push_back({0.25 * double(i)});
             v.rows[i].push_back({1.0 - 0.125 * double(i)});
         }
-        const TriangleMeshData m = read_bytes(write_ply(
-            GetParam(), {v, face_element(kQuadTris, "uchar", "int", "vertex_index")}));
+        const TriangleMeshData m = read_bytes(
+            write_ply(GetParam(), {v, face_element(kQuadTris, "uchar", "int", "vertex_index")}));
         EXPECT_EQ(m.indices, kQuadIndices);
         expect_uvs(m.uv, {{0, 1}, {0.25f, 0.875f}, {0.5f, 0.75f}, {0.75f, 0.625f}});
     }
@@ -408,7 +429,8 @@ TEST_P(PlyFormats, VertexElementAfterFaceElement) {
 }
 
 TEST_P(PlyFormats, EmptyMesh) {
-    const TriangleMeshData m = read_bytes(write_ply(GetParam(), {vertex_element({}), face_element({})}));
+    const TriangleMeshData m =
+        read_bytes(write_ply(GetParam(), {vertex_element({}), face_element({})}));
     EXPECT_TRUE(m.p.empty());
     EXPECT_TRUE(m.indices.empty());
 }
@@ -435,7 +457,9 @@ TEST_P(PlyFormats, LargerGridMatchesGenerator) {
 INSTANTIATE_TEST_SUITE_P(All, PlyFormats,
                          ::testing::Values(PlyFormat::Ascii, PlyFormat::BinaryLittleEndian,
                                            PlyFormat::BinaryBigEndian),
-                         [](const auto& param_info) { return std::string(format_keyword(param_info.param)); });
+                         [](const auto& param_info) {
+                             return std::string(format_keyword(param_info.param));
+                         });
 
 // ---- format details ----------------------------------------------------------------------------
 
@@ -543,16 +567,18 @@ TEST(PlyErrors, MalformedHeaderLines) {
 }
 
 TEST(PlyErrors, MissingElementsAndProperties) {
-    expect_error("ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int "
-                 "vertex_indices\nend_header\n",
-                 "{path}: no 'vertex' element in the header");
+    expect_error(
+        "ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int "
+        "vertex_indices\nend_header\n",
+        "{path}: no 'vertex' element in the header");
     expect_error(replace(kAsciiTriangle, "property float z\n", ""),
                  "{path}:3: element 'vertex' has no property 'z'");
     expect_error(replace(kAsciiTriangle, "vertex_indices", "indices"),
                  ":7: element 'face' has no property 'vertex_indices'");
-    expect_error("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float "
-                 "y\nproperty float z\nend_header\n",
-                 "no 'face' element in the header");
+    expect_error(
+        "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float "
+        "y\nproperty float z\nend_header\n",
+        "no 'face' element in the header");
     expect_error(replace(kAsciiTriangle, "property float z\n",
                          "property float z\nproperty float nx\nproperty float ny\n"),
                  ":3: element 'vertex' has only some of the properties nx, ny, nz");
@@ -561,7 +587,8 @@ TEST(PlyErrors, MissingElementsAndProperties) {
 TEST(PlyErrors, TruncatedBinary) {
     const std::vector<Point3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     for (PlyFormat f : {PlyFormat::BinaryLittleEndian, PlyFormat::BinaryBigEndian}) {
-        const std::string full = write_ply(f, {vertex_element(p), face_element({{0, 1, 2}, {2, 1, 0}})});
+        const std::string full =
+            write_ply(f, {vertex_element(p), face_element({{0, 1, 2}, {2, 1, 0}})});
         // 3 vertices of 12 bytes, then 2 faces of 13 bytes.
         expect_error(full.substr(0, full.size() - 26 - 20),
                      "{path}: unexpected end of file in element 'vertex' (read 1 of 3)");
@@ -586,8 +613,8 @@ TEST(PlyErrors, TruncatedBinary) {
 
 TEST(PlyErrors, IndexOutOfRange) {
     const std::vector<Point3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    for (PlyFormat f : {PlyFormat::Ascii, PlyFormat::BinaryLittleEndian,
-                        PlyFormat::BinaryBigEndian}) {
+    for (PlyFormat f :
+         {PlyFormat::Ascii, PlyFormat::BinaryLittleEndian, PlyFormat::BinaryBigEndian}) {
         SCOPED_TRACE(format_keyword(f));
         expect_error(write_ply(f, {vertex_element(p), face_element({{0, 1, 2}, {0, 7, 1}})}),
                      "{path}: face 1 references vertex 7 but there are 3 vertices");
@@ -597,16 +624,16 @@ TEST(PlyErrors, IndexOutOfRange) {
         huge.rows[0][0][1] = 4294967295.0;
         expect_error(write_ply(f, {vertex_element(p), huge}),
                      "{path}: face 0 references vertex 4294967295 but there are 3 vertices");
-        expect_error(
-            write_ply(f, {vertex_element(p), face_element({{0, 1, 2}, {3, 0, 1}}, "ushort", "int")}),
-            "{path}: face 1 references vertex 3 but there are 3 vertices");
+        expect_error(write_ply(f, {vertex_element(p),
+                                   face_element({{0, 1, 2}, {3, 0, 1}}, "ushort", "int")}),
+                     "{path}: face 1 references vertex 3 but there are 3 vertices");
     }
 }
 
 TEST(PlyErrors, FacesThatAreNotTrianglesOrQuads) {
     const std::vector<Point3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 2, 0}};
-    for (PlyFormat f : {PlyFormat::Ascii, PlyFormat::BinaryLittleEndian,
-                        PlyFormat::BinaryBigEndian}) {
+    for (PlyFormat f :
+         {PlyFormat::Ascii, PlyFormat::BinaryLittleEndian, PlyFormat::BinaryBigEndian}) {
         SCOPED_TRACE(format_keyword(f));
         expect_error(write_ply(f, {vertex_element(p), face_element({{0, 1, 2}, {0, 1, 2, 3, 4}})}),
                      "{path}: face 1 has 5 vertices; only triangles and quads are supported");
@@ -645,10 +672,11 @@ TEST(PlyErrors, AsciiCountMismatch) {
 TEST(PlyErrors, NonFinitePosition) {
     expect_error(replace(kAsciiTriangle, "1 0 0\n", "1 nan 0\n"),
                  "{path}: vertex 1 has a non-finite position (1, nan, 0)");
-    const std::vector<Point3> p = {{0, 0, 0}, {1, std::numeric_limits<float>::quiet_NaN(), 0},
-                                   {0, 1, 0}};
-    expect_error(write_ply(PlyFormat::BinaryLittleEndian, {vertex_element(p), face_element({{0, 1, 2}})}),
-                 "vertex 1 has a non-finite position");
+    const std::vector<Point3> p = {
+        {0, 0, 0}, {1, std::numeric_limits<float>::quiet_NaN(), 0}, {0, 1, 0}};
+    expect_error(
+        write_ply(PlyFormat::BinaryLittleEndian, {vertex_element(p), face_element({{0, 1, 2}})}),
+        "vertex 1 has a non-finite position");
     PlyElem v = vertex_element({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, "double");
     v.rows[2][0] = {1e300};
     expect_error(write_ply(PlyFormat::BinaryBigEndian, {v, face_element({{0, 1, 2}})}),
@@ -691,8 +719,8 @@ TEST(PlyErrors, NeverCrashesOnCorruptInput) {
     v.props.push_back({"uchar", "tags", "int"});
     for (auto& row : v.rows) row.push_back({1, 2});
     std::vector<std::string> files;
-    for (PlyFormat f : {PlyFormat::Ascii, PlyFormat::BinaryLittleEndian,
-                        PlyFormat::BinaryBigEndian}) {
+    for (PlyFormat f :
+         {PlyFormat::Ascii, PlyFormat::BinaryLittleEndian, PlyFormat::BinaryBigEndian}) {
         files.push_back(write_ply(f, {full_vertex_element(g), fe}));
         files.push_back(write_ply(f, {v, fe_generic}));
     }
@@ -717,10 +745,18 @@ TEST(PlyErrors, NeverCrashesOnCorruptInput) {
             for (int k = 0; k < flips; ++k) {
                 const std::size_t at = rng() % bytes.size();
                 switch (rng() % 4) {
-                    case 0: bytes[at] = static_cast<char>(rng()); break;
-                    case 1: bytes[at] = static_cast<char>(0xff); break;
-                    case 2: bytes[at] = "0123456789-. \n"[rng() % 14]; break;
-                    default: bytes.erase(at, 1 + rng() % 8); break;
+                    case 0:
+                        bytes[at] = static_cast<char>(rng());
+                        break;
+                    case 1:
+                        bytes[at] = static_cast<char>(0xff);
+                        break;
+                    case 2:
+                        bytes[at] = "0123456789-. \n"[rng() % 14];
+                        break;
+                    default:
+                        bytes.erase(at, 1 + rng() % 8);
+                        break;
                 }
                 if (bytes.empty()) break;
             }
