@@ -1,7 +1,14 @@
 # Every dependency is a Debian package (scripts/install-deps.sh installs them).
 find_package(embree 3 REQUIRED)
 find_package(TBB REQUIRED)
-find_package(OpenImageIO REQUIRED)
+# Debian's OpenImageIO CMake config lists /usr/include/opencv4 as an include directory
+# (OpenCV is an optional dependency not installed here), so we locate the library directly.
+find_path(OIIO_INCLUDE_DIR OpenImageIO/imageio.h REQUIRED)
+find_library(OIIO_LIBRARY OpenImageIO REQUIRED)
+find_library(OIIO_UTIL_LIBRARY OpenImageIO_Util REQUIRED)
+add_library(steradian_oiio INTERFACE)
+target_include_directories(steradian_oiio SYSTEM INTERFACE ${OIIO_INCLUDE_DIR})
+target_link_libraries(steradian_oiio INTERFACE ${OIIO_LIBRARY} ${OIIO_UTIL_LIBRARY})
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)

@@ -12,7 +12,7 @@ class Scene;
 class Accel {
 public:
     /// Builds Embree scenes for the top level and every prototype of `scene`, sharing the
-    XX
+    /// meshes' vertex and index buffers. The scene's vectors must outlive the Accel.
     explicit Accel(const Scene& scene);
     ~Accel();
     Accel(const Accel&) = delete;

@@ -7,7 +7,7 @@ namespace sr {
 Transform raster_from_screen(const Float s[4], Vec2i res) {
     // Screen window -> NDC [0,1]^2 (y flipped) -> raster.
     Transform ndc_from_screen =
-        Transform::scale({1.0 / (double(s[1]) - s[0]), 1.0 / (double(s[2]) - s[3]), 1}) *
+        Transform::scale({1.0 / (double(s[1]) - s[0]), 1.0 / (double(s[3]) - s[2]), 1}) *
         Transform::translate({-double(s[0]), -double(s[3]), 0});
     return Transform::scale({double(res.x), -double(res.y), 1}) * ndc_from_screen;
 }

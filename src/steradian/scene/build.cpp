@@ -168,7 +168,7 @@ private:
         Float wb = ps.get_float("whitebalance", 0);
         if (wb > 0) {
             // White balance from the CIE daylight illuminant of that temperature.
-            Xyz w = spectrum_to_xyz(daylight_spectrum(wb));
+            Xyz w = spectrum_to_xyz(cie_daylight(wb));
             Float sum = w.x + w.y + w.z;
             fp.rgb_from_sensor = srgb_from_xyz_white_balanced(w.x / sum, w.y / sum);
         } else {
