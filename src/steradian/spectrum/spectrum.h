@@ -74,6 +74,13 @@ concept SpectrumLike = requires(const S& s, Float lambda) {
     { s(lambda) } -> std::convertible_to<Float>;
     { s.max_value() } -> std::convertible_to<Float>;
 };
+static_assert(SpectrumLike<ConstantSpectrum>);
+static_assert(SpectrumLike<DenselySampledSpectrum>);
+static_assert(SpectrumLike<PiecewiseLinearSpectrum>);
+static_assert(SpectrumLike<BlackbodySpectrum>);
+static_assert(SpectrumLike<RgbAlbedoSpectrum>);
+static_assert(SpectrumLike<RgbUnboundedSpectrum>);
+static_assert(SpectrumLike<RgbIlluminantSpectrum>);
 
 class Spectrum {
 public:
@@ -121,15 +128,39 @@ Xyz spectrum_to_xyz(const Spectrum& s);
 /// pbrt-v4's SpectrumToPhotometric: the inner product of s with ybar (for an
 /// RgbIlluminantSpectrum, of its illuminant alone). Not divided by kCieYIntegral.
 Float spectrum_to_photometric(const Spectrum& s);
+/// XYZ of a reflectance r lit by an illuminant: integral of r * illum * {xbar, ybar, zbar}
+/// divided by the integral of illum * ybar (so a perfect white reflector has Y = 1).
+Xyz reflectance_to_xyz(const Spectrum& r, const Spectrum& illuminant);
+
+// ---- Planck's law and CIE illuminants ------------------------------------------------------
+/// Spectral radiance of a blackbody (Planck's law) in W m^-2 sr^-1 m^-1, at wavelength
+/// lambda_nm (nm) and temperature_k (K); 0 for a non-positive temperature or wavelength.
+/// Constants as pbrt-v4: c = 299792458 m/s, h = 6.62606957e-34 J s, kb = 1.3806488e-23 J/K.
+double planck(double lambda_nm, double temperature_k);
+/// Wien's displacement constant b (m K): the peak of Planck's law is at b / T.
+inline constexpr double kWienDisplacement = 2.8977721e-3;
+/// CIE daylight illuminant D for a correlated colour temperature in K (4000..25000), from
+/// the S0, S1, S2 basis (CIE 015:2018), relative: 100 at 560 nm, 300..830 nm. Throws
+/// sr::Error outside the range. (D65 is cct = 6500 * 1.4388 / 1.4380 = 6504 K; the
+/// tabulated "stdillum-D65" is the official table.)
+PiecewiseLinearSpectrum cie_daylight(Float cct);
 
 // ---- RGB uplift (sRGB colour space, D65) ------------------------------------------------
+// Solved per colour at load time (Gauss-Newton with continuation in CIELAB, Jakob & Hanika
+// 2019) and cached; thread-safe. Roughly a millisecond per new colour.
 /// RGB reflectance in [0,1]^3 -> bounded spectrum. Throws sr::Error if out of range.
 RgbAlbedoSpectrum rgb_albedo_spectrum(Rgb rgb);
+/// Non-negative RGB -> scale * bounded spectrum with scale = 2 max(r, g, b) (pbrt-v4).
+/// Throws sr::Error for a negative or non-finite component.
 RgbUnboundedSpectrum rgb_unbounded_spectrum(Rgb rgb);
+/// As rgb_unbounded_spectrum, times srgb_illuminant(): an emission spectrum whose colour
+/// under the sRGB white is rgb.
 RgbIlluminantSpectrum rgb_illuminant_spectrum(Rgb rgb);
 
 // ---- named spectra ------------------------------------------------------------------------
 /// pbrt-v4's named spectra ("stdillum-D65", "metal-Au-eta", "glass-BK7", ...), or empty.
+/// Returned as DenselySampledSpectrum (O(1) evaluation, zero outside 360..830 nm);
+/// illuminants are normalised to Y = 1, eta / k are not. Built once, thread-safe.
 std::optional<Spectrum> named_spectrum(std::string_view name);
 /// All names named_spectrum knows (for error messages and docs).
 std::vector<std::string> named_spectrum_names();

@@ -1,0 +1,139 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "steradian/core/error.h"
+#include "steradian/spectrum/spectrum.h"
+
+namespace sr {
+namespace {
+
+/// Linear sRGB of a reflectance viewed under the sRGB white (D65).
+Rgb reflectance_rgb(const Spectrum& s) {
+    return xyz_to_linear_srgb(reflectance_to_xyz(s, Spectrum(srgb_illuminant())));
+}
+
+void expect_rgb_near(Rgb a, Rgb b, double tol, const std::string& what) {
+    EXPECT_NEAR(a.r, b.r, tol) << what;
+    EXPECT_NEAR(a.g, b.g, tol) << what;
+    EXPECT_NEAR(a.b, b.b, tol) << what;
+}
+
+std::string str(Rgb c) {
+    return "(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) +
+           ")";
+}
+
+TEST(RgbUplift, ReflectanceRoundTrip) {
+    std::vector<Rgb> colours = {
+        {0.78f, 0.78f, 0.78f}, {0.8f, 0.2f, 0.1f},   {0.05f, 0.9f, 0.3f}, {0.01f, 0.01f, 0.9f},
+        {0.5f, 0.5f, 0.5f},    {0.18f, 0.18f, 0.18f}, {0.9f, 0.9f, 0.1f}, {0.1f, 0.6f, 0.9f},
+        {0.3f, 0.1f, 0.6f},    {0.95f, 0.5f, 0.6f},   {0.02f, 0.03f, 0.02f}, {0.99f, 0.98f, 0.97f},
+    };
+    // A coarse grid over the cube as well.
+    for (Float r : {0.03f, 0.35f, 0.7f, 0.97f})
+        for (Float g : {0.03f, 0.35f, 0.7f, 0.97f})
+            for (Float b : {0.03f, 0.35f, 0.7f, 0.97f}) colours.push_back({r, g, b});
+    for (Rgb c : colours) {
+        RgbAlbedoSpectrum s = rgb_albedo_spectrum(c);
+        expect_rgb_near(reflectance_rgb(Spectrum(s)), c, 1e-3, str(c));
+    }
+}
+
+TEST(RgbUplift, ReflectanceStaysInUnitInterval) {
+    for (Rgb c : {Rgb{0.8f, 0.2f, 0.1f}, Rgb{0.05f, 0.9f, 0.3f}, Rgb{0.01f, 0.01f, 0.9f},
+                  Rgb{1, 0, 0}, Rgb{0, 1, 0}, Rgb{0, 0, 1}, Rgb{1, 1, 0}, Rgb{0, 1, 1}}) {
+        RgbAlbedoSpectrum s = rgb_albedo_spectrum(c);
+        for (Float l = kLambdaMin; l <= kLambdaMax; l += 0.5f) {
+            Float v = s(l);
+            ASSERT_GE(v, 0) << str(c);
+            ASSERT_LE(v, 1) << str(c);
+        }
+        EXPECT_LE(s.max_value(), 1);
+    }
+}
+
+TEST(RgbUplift, ExtremeColoursAreApproximated) {
+    // The primaries themselves lie on the edge of what a smooth reflectance can reach; the fit
+    // must still be close (Jakob & Hanika report small errors there).
+    for (Rgb c : {Rgb{1, 0, 0}, Rgb{0, 1, 0}, Rgb{0, 0, 1}, Rgb{1, 1, 0}, Rgb{0, 1, 1},
+                  Rgb{1, 0, 1}}) {
+        Rgb back = reflectance_rgb(Spectrum(rgb_albedo_spectrum(c)));
+        expect_rgb_near(back, c, 0.05, str(c));
+    }
+}
+
+TEST(RgbUplift, GreyIsConstantExactly) {
+    for (Float v : {0.0f, 0.18f, 0.5f, 0.78f, 1.0f}) {
+        RgbAlbedoSpectrum s = rgb_albedo_spectrum({v, v, v});
+        EXPECT_EQ(s.c0, 0);
+        EXPECT_EQ(s.c1, 0);
+        for (Float l : {360.0f, 555.0f, 830.0f}) EXPECT_NEAR(s(l), v, 1e-6f) << v;
+    }
+    EXPECT_EQ(rgb_albedo_spectrum({1, 1, 1}).c2, kInfinity);
+    EXPECT_EQ(rgb_albedo_spectrum({0, 0, 0}).c2, -kInfinity);
+    EXPECT_EQ(rgb_albedo_spectrum({1, 1, 1})(500), 1);
+    EXPECT_EQ(rgb_albedo_spectrum({0, 0, 0})(500), 0);
+}
+
+TEST(RgbUplift, RejectsOutOfRange) {
+    EXPECT_THROW(rgb_albedo_spectrum({1.1f, 0.5f, 0.5f}), Error);
+    EXPECT_THROW(rgb_albedo_spectrum({-0.1f, 0.5f, 0.5f}), Error);
+    EXPECT_THROW(rgb_albedo_spectrum({kInfinity, 0.5f, 0.5f}), Error);
+    EXPECT_THROW(rgb_unbounded_spectrum({-1, 0, 0}), Error);
+    EXPECT_THROW(rgb_illuminant_spectrum({std::nanf(""), 0, 0}), Error);
+}
+
+TEST(RgbUplift, UnboundedScalesByTwiceTheMaximum) {
+    Rgb c{3.0f, 1.5f, 0.6f};
+    RgbUnboundedSpectrum s = rgb_unbounded_spectrum(c);
+    EXPECT_FLOAT_EQ(s.scale, 6.0f);
+    expect_rgb_near(reflectance_rgb(Spectrum(s)), c, 3e-3, str(c));
+    RgbUnboundedSpectrum zero = rgb_unbounded_spectrum({0, 0, 0});
+    EXPECT_EQ(zero.scale, 0);
+    EXPECT_EQ(zero(500), 0);
+    EXPECT_EQ(zero.max_value(), 0);
+    // Grey: half of the scale everywhere.
+    RgbUnboundedSpectrum g = rgb_unbounded_spectrum({2, 2, 2});
+    EXPECT_NEAR(g(400), 2, 1e-5);
+    EXPECT_NEAR(g(700), 2, 1e-5);
+}
+
+TEST(RgbUplift, IlluminantEmitsTheRequestedColour) {
+    for (Rgb c : {Rgb{1, 1, 1}, Rgb{10, 4, 1}, Rgb{0.2f, 0.5f, 0.9f}}) {
+        RgbIlluminantSpectrum s = rgb_illuminant_spectrum(c);
+        Rgb emitted = xyz_to_linear_srgb(spectrum_to_xyz(Spectrum(s)));
+        Float m = std::max({c.r, c.g, c.b});
+        expect_rgb_near(emitted, c, 2e-3 * m, str(c));
+    }
+    // White light is the illuminant itself, with Y = 1.
+    RgbIlluminantSpectrum w = rgb_illuminant_spectrum({1, 1, 1});
+    EXPECT_NEAR(spectrum_to_xyz(Spectrum(w)).y, 1.0, 1e-4);
+    EXPECT_EQ(w.illuminant.values, srgb_illuminant().values);
+}
+
+TEST(RgbUplift, CachedAndThreadSafe) {
+    Rgb c{0.42f, 0.17f, 0.66f};
+    RgbAlbedoSpectrum first = rgb_albedo_spectrum(c);
+    std::vector<std::thread> threads;
+    std::vector<RgbAlbedoSpectrum> results(8);
+    for (int i = 0; i < 8; ++i)
+        threads.emplace_back([&results, i] {
+            results[i] = rgb_albedo_spectrum({0.1f + 0.1f * Float(i % 4), 0.3f, 0.5f});
+        });
+    for (std::thread& t : threads) t.join();
+    for (int i = 0; i < 8; ++i) {
+        RgbAlbedoSpectrum again = rgb_albedo_spectrum({0.1f + 0.1f * Float(i % 4), 0.3f, 0.5f});
+        EXPECT_EQ(results[i].c0, again.c0);
+        EXPECT_EQ(results[i].c1, again.c1);
+        EXPECT_EQ(results[i].c2, again.c2);
+    }
+    RgbAlbedoSpectrum second = rgb_albedo_spectrum(c);
+    EXPECT_EQ(first.c0, second.c0);
+    EXPECT_EQ(first.c1, second.c1);
+    EXPECT_EQ(first.c2, second.c2);
+}
+
+}  // namespace
+}  // namespace sr

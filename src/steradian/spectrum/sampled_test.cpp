@@ -1,0 +1,74 @@
+#include "steradian/spectrum/sampled.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace sr {
+namespace {
+
+/// Integral of visible_wavelengths_pdf over [kLambdaMin, upper] by Simpson's rule.
+double visible_cdf(double upper) {
+    const int n = 4000;
+    double a = kLambdaMin, h = (upper - a) / n, sum = 0;
+    for (int i = 0; i <= n; ++i) {
+        double f = visible_wavelengths_pdf(Float(a + i * h));
+        sum += f * (i == 0 || i == n ? 1 : (i % 2 ? 4 : 2));
+    }
+    return sum * h / 3;
+}
+
+TEST(SampledWavelengths, VisiblePdfIntegratesToOne) {
+    EXPECT_NEAR(visible_cdf(kLambdaMax), 1.0, 1e-5);
+    EXPECT_EQ(visible_wavelengths_pdf(359), 0);
+    EXPECT_EQ(visible_wavelengths_pdf(831), 0);
+}
+
+TEST(SampledWavelengths, InverseCdfSampling) {
+    // F(sample(u)) = u: the sampler inverts the CDF of the pdf it reports.
+    for (double u = 0; u < 1; u += 1.0 / 64) {
+        Float l = sample_visible_wavelengths(Float(u));
+        EXPECT_GE(l, kLambdaMin - 1e-3f);
+        EXPECT_LE(l, kLambdaMax + 1e-3f);
+        EXPECT_NEAR(visible_cdf(l), u, 2e-5) << u;
+    }
+}
+
+TEST(SampledWavelengths, SampleVisibleRotatesHeroWavelength) {
+    SampledWavelengths w = SampledWavelengths::sample_visible(0.3f);
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+        Float up = 0.3f + Float(i) / kSpectrumSamples;
+        if (up > 1) up -= 1;
+        EXPECT_FLOAT_EQ(w.lambda[i], sample_visible_wavelengths(up));
+        EXPECT_FLOAT_EQ(w.pdf[i], visible_wavelengths_pdf(w.lambda[i]));
+        EXPECT_GT(w.pdf[i], 0);
+    }
+}
+
+TEST(SampledWavelengths, TerminateSecondaryKeepsEstimatorUnbiased) {
+    SampledWavelengths w = SampledWavelengths::sample_uniform(0.6f);
+    Float hero_pdf = w.pdf[0];
+    EXPECT_FALSE(w.secondary_terminated());
+    w.terminate_secondary();
+    EXPECT_TRUE(w.secondary_terminated());
+    EXPECT_FLOAT_EQ(w.pdf[0], hero_pdf / kSpectrumSamples);
+    w.terminate_secondary();  // idempotent
+    EXPECT_FLOAT_EQ(w.pdf[0], hero_pdf / kSpectrumSamples);
+}
+
+TEST(SampledSpectrum, Arithmetic) {
+    SampledSpectrum a(2), b;
+    b.v = {1, 0, 4, -1};
+    SampledSpectrum q = a.safe_div(b);
+    EXPECT_EQ(q[0], 2);
+    EXPECT_EQ(q[1], 0);
+    EXPECT_EQ(q[2], 0.5f);
+    EXPECT_EQ((a * b).max_value(), 8);
+    EXPECT_EQ((a + b).min_value(), 1);
+    EXPECT_FLOAT_EQ(b.average(), 1);
+    EXPECT_FALSE(SampledSpectrum(0));
+    EXPECT_TRUE(a);
+}
+
+}  // namespace
+}  // namespace sr
