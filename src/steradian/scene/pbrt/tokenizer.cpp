@@ -70,8 +70,7 @@ Tokenizer::Tokenizer(std::string contents, std::string filename)
 std::unique_ptr<Tokenizer> Tokenizer::from_file(const std::string& path, const SourceLoc* where) {
     auto fail = [&](const std::string& why) -> std::unique_ptr<Tokenizer> {
         std::string msg = fmt::format("cannot read scene file \"{}\": {}", path, why);
-        if (where) throw Error(*where, msg);
-        throw Error(msg);
+        throw Error(where ? *where : SourceLoc{}, msg);  // an empty loc prints no prefix
     };
     if (path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0)
         return fail("gzip-compressed scene files are not supported; decompress it first");
