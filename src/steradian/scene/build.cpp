@@ -696,6 +696,9 @@ private:
         return srgb_illuminant();
     }
 
+    /// pbrt-v4's SpectrumToPhotometric of a light spectrum as given in the file: for RGB
+    /// illuminants only the colour space's illuminant counts, so an "rgb L" of (4, 4, 4) is
+    /// four times as bright as (1, 1, 1). Must be called before densely_sampled().
     static Float photometric_or_fail(const Spectrum& s, const SourceLoc& loc) {
         Float y = spectrum_to_photometric(s);
         if (!(y > 0)) throw_error(loc, "the light's spectrum has no visible (V(lambda)) content");
@@ -708,11 +711,12 @@ private:
         const Transform& x = l.world_from_light;
         if (l.type == "point") {
             PointLight pl;
-            pl.intensity = densely_sampled(illum_param(ps, "I"));
+            Spectrum I = illum_param(ps, "I");
+            pl.intensity = densely_sampled(I);
             Float sc = ps.get_float("scale", 1);
             Float phi = ps.get_float("power", -1);
             if (phi > 0) sc *= phi / (4 * kPi);
-            sc /= photometric_or_fail(pl.intensity, l.loc);
+            sc /= photometric_or_fail(I, l.loc);
             Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
             pl.p = x.point(from);
             pl.scale = sc;
@@ -720,7 +724,8 @@ private:
             s.lights.push_back(pl);
         } else if (l.type == "spot") {
             SpotLight sl;
-            sl.intensity = densely_sampled(illum_param(ps, "I"));
+            Spectrum I = illum_param(ps, "I");
+            sl.intensity = densely_sampled(I);
             Float sc = ps.get_float("scale", 1);
             Float cone = ps.get_float("coneangle", 30), delta = ps.get_float("conedelta", 5);
             sl.cos_falloff_end = std::cos(radians(cone));
@@ -731,7 +736,7 @@ private:
                                        (sl.cos_falloff_start - sl.cos_falloff_end) / 2);
                 sc *= phi / k_e;
             }
-            sc /= photometric_or_fail(sl.intensity, l.loc);
+            sc /= photometric_or_fail(I, l.loc);
             Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
             Point3 to = ps.find_point3("to").value_or(Point3(0, 0, 1));
             Vec3 dir = to - from;
@@ -753,9 +758,10 @@ private:
             s.lights.push_back(sl);
         } else if (l.type == "distant") {
             DistantLight dl;
-            dl.radiance = densely_sampled(illum_param(ps, "L"));
+            Spectrum L = illum_param(ps, "L");
+            dl.radiance = densely_sampled(L);
             Float sc = ps.get_float("scale", 1);
-            sc /= photometric_or_fail(dl.radiance, l.loc);
+            sc /= photometric_or_fail(L, l.loc);
             Float ev = ps.get_float("illuminance", -1);
             if (ev > 0) sc *= ev;
             Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
@@ -774,9 +780,10 @@ private:
                                    "not supported yet",
                             what);
             UniformInfiniteLight il;
-            il.radiance = densely_sampled(illum_param(ps, "L"));
+            Spectrum L = illum_param(ps, "L");
+            il.radiance = densely_sampled(L);
             Float sc = ps.get_float("scale", 1);
-            sc /= photometric_or_fail(il.radiance, l.loc);
+            sc /= photometric_or_fail(L, l.loc);
             Float ev = ps.get_float("illuminance", -1);
             if (ev > 0) sc *= ev / kPi;
             il.scale = sc;
@@ -797,10 +804,13 @@ private:
         const ParamSet& ps = a.params;
         if (ps.find("filename"))
             throw_error(a.loc, "image-textured area lights (\"filename\") are not supported yet");
-        Spectrum L = densely_sampled(illum_param(ps, "L"));
+        Spectrum L_param = illum_param(ps, "L");
         Float sc = ps.get_float("scale", 1);
         bool two_sided = ps.get_bool("twosided", false);
-        sc /= photometric_or_fail(L, a.loc);
+        // pbrt-v4 normalises by the photometric value of the spectrum as given (for RGB,
+        // of the colour space's illuminant alone), so densify only afterwards.
+        sc /= photometric_or_fail(L_param, a.loc);
+        Spectrum L = densely_sampled(L_param);
         Float phi = ps.get_float("power", -1);
         ps.check_unused("AreaLightSource \"diffuse\"");
         ShapeEntry& e = s.shapes[shape_index];

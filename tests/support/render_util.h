@@ -1,0 +1,69 @@
+#pragma once
+// Helpers for scene-level tests: render a pbrt-v4 scene given as text and summarise pixel
+// statistics. Tolerances in the tests come from these estimated standard errors.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "steradian/film/film.h"
+#include "steradian/integrators/integrator.h"
+#include "steradian/scene/build.h"
+#include "steradian/scene/pbrt/parser.h"
+
+namespace sr::test {
+
+struct Rendered {
+    Image rgb;
+    std::vector<double> y;  ///< luminance per pixel (film Y)
+    RenderStats stats;
+    int width = 0, height = 0;
+};
+
+inline Rendered render_string(const std::string& pbrt, int threads = 2, int spp = 0,
+                              const std::string& base_dir = ".") {
+    SceneDesc d = parse_pbrt_string(pbrt, "<test>", base_dir);
+    BuildOptions bo;
+    bo.spp_override = spp;
+    Scene s = build_scene(d, bo);
+    Film film(s.film);
+    RenderOptions ro;
+    ro.threads = threads;
+    ro.spp = spp;
+    Rendered r;
+    r.stats = render(s, film, ro);
+    r.rgb = film.rgb_image();
+    r.y = film.luminance();
+    r.width = s.film.width();
+    r.height = s.film.height();
+    return r;
+}
+
+/// Mean and standard error of the mean over a set of (independent) pixel values.
+struct MeanSe {
+    double mean = 0, se = 0;
+    size_t n = 0;
+};
+
+inline MeanSe mean_se(const std::vector<double>& v) {
+    MeanSe m;
+    m.n = v.size();
+    if (v.empty()) return m;
+    double s = 0, s2 = 0;
+    for (double x : v) s += x, s2 += x * x;
+    m.mean = s / double(v.size());
+    double var = std::max(0.0, s2 / double(v.size()) - m.mean * m.mean) * double(v.size()) /
+                 std::max<double>(1, double(v.size()) - 1);
+    m.se = std::sqrt(var / double(v.size()));
+    return m;
+}
+
+/// Values of channel c (0..2 RGB, 3 = luminance Y) inside the rectangle [x0,x1) x [y0,y1).
+inline std::vector<double> region(const Rendered& r, int x0, int y0, int x1, int y1, int c = 3) {
+    std::vector<double> v;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            v.push_back(c == 3 ? r.y[size_t(y) * r.width + x] : r.rgb.at(x, y, c));
+    return v;
+}
+
+}  // namespace sr::test
