@@ -17,7 +17,7 @@ namespace sr {
 
 /// Piecewise-constant density on [min, max] with n equal bins, proportional to f.
 class Distribution1D {
-public:
+  public:
     Distribution1D() = default;
     /// f: n >= 1 bin values, non-negative and finite (negative values are taken by absolute
     /// value; a non-finite value throws sr::Error). min < max.
@@ -45,7 +45,7 @@ public:
     /// CDF at x: the u that sample_continuous maps to x; empty if x is outside [min, max].
     std::optional<Float> invert(Float x) const;
 
-private:
+  private:
     int find_bin(Float u) const;
 
     std::vector<Float> m_func;
@@ -61,7 +61,7 @@ private:
 /// between the bin and its alias, so sampling is O(1) regardless of n. Used for light
 /// selection by power.
 class AliasTable {
-public:
+  public:
     AliasTable() = default;
     /// weights: n >= 1 non-negative finite values (a non-finite or negative value throws
     /// sr::Error); all-zero weights give the uniform distribution.
@@ -74,7 +74,7 @@ public:
     /// Probability of index i (normalized weight).
     Float pmf(int i) const { return m_bins[std::size_t(i)].p; }
 
-private:
+  private:
     struct Bin {
         Float q = 1;    // probability of keeping the bin rather than jumping to its alias
         int alias = 0;  // the alias bin
@@ -88,7 +88,7 @@ private:
 /// and x from the chosen row's conditional density (Pharr et al., "Physically Based
 /// Rendering", 3rd ed., Sec. 13.6.7).
 class Distribution2D {
-public:
+  public:
     Distribution2D() = default;
     Distribution2D(std::span<const Float> f, int nu, int nv, Point2 lo = {0, 0},
                    Point2 hi = {1, 1});
@@ -104,7 +104,7 @@ public:
     int nu() const { return int(m_conditional.empty() ? 0 : m_conditional[0].size()); }
     int nv() const { return int(m_conditional.size()); }
 
-private:
+  private:
     std::vector<Distribution1D> m_conditional;  // one per row v, over [lo.x, hi.x]
     Distribution1D m_marginal;                  // over [lo.y, hi.y]
     Point2 m_lo{0, 0}, m_hi{1, 1};

@@ -224,7 +224,8 @@ TEST(Distribution2D, SamplingMatchesFunction) {
         for (int u = 0; u < nu; ++u) {
             // A smooth bump with one all-zero row and one zero cell.
             f[std::size_t(v * nu + u)] =
-                v == 2 ? 0.0f : 1 + std::sin(Float(u) * 0.7f) * std::cos(Float(v) * 0.4f) + 0.1f * u;
+                v == 2 ? 0.0f
+                       : 1 + std::sin(Float(u) * 0.7f) * std::cos(Float(v) * 0.4f) + 0.1f * u;
         }
     }
     f[5 * nu + 3] = 0;
@@ -239,7 +240,8 @@ TEST(Distribution2D, SamplingMatchesFunction) {
     double total = 0;
     for (int v = 0; v < nv; ++v) {
         for (int u = 0; u < nu; ++u) {
-            Point2 c{lo.x + (u + 0.5f) * (hi.x - lo.x) / nu, lo.y + (v + 0.5f) * (hi.y - lo.y) / nv};
+            Point2 c{lo.x + (u + 0.5f) * (hi.x - lo.x) / nu,
+                     lo.y + (v + 0.5f) * (hi.y - lo.y) / nv};
             total += d.pdf(c) * cell_area;
             EXPECT_NEAR(d.pdf(c), p[std::size_t(v * nu + u)] / cell_area, 1e-5);
         }

@@ -28,7 +28,9 @@ constexpr uint64_t mix_bits(uint64_t v) {
 
 /// Hash of h extended by v: the splitmix64 output at position v + 1 of a stream started
 /// at h. Cheap (one mix) way to derive per-dimension keys from a per-pixel key.
-constexpr uint64_t hash_combine(uint64_t h, uint64_t v) { return mix_bits(h + kGolden64 * (v + 1)); }
+constexpr uint64_t hash_combine(uint64_t h, uint64_t v) {
+    return mix_bits(h + kGolden64 * (v + 1));
+}
 
 /// MurmurHash64A of len bytes (Austin Appleby, MurmurHash2 family, public domain), reading
 /// little-endian 8-byte blocks.

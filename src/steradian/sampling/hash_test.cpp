@@ -99,7 +99,8 @@ TEST(Hash, ReverseBits) {
         EXPECT_EQ(reverse_bits32(reverse_bits32(v)), v);
         EXPECT_EQ(std::popcount(reverse_bits32(v)), std::popcount(v));
         // Bit k goes to bit 31 - k.
-        for (int k = 0; k < 32; k += 7) EXPECT_EQ((v >> k) & 1, (reverse_bits32(v) >> (31 - k)) & 1);
+        for (int k = 0; k < 32; k += 7)
+            EXPECT_EQ((v >> k) & 1, (reverse_bits32(v) >> (31 - k)) & 1);
     }
 }
 

@@ -26,7 +26,7 @@ inline Float u32_to_unit_float(uint32_t v) {
 }
 
 class Pcg32 {
-public:
+  public:
     static constexpr uint64_t kDefaultState = 0x853c49e6748fea9bULL;
     static constexpr uint64_t kDefaultStream = 0xda3e39cb94b95bdbULL;
     static constexpr uint64_t kMultiplier = 0x5851f42d4c957f2dULL;
@@ -127,7 +127,7 @@ public:
 
     bool operator==(const Pcg32&) const = default;
 
-private:
+  private:
     // splitmix64 finalizer (kept local so rng.h does not depend on hash.h).
     static constexpr uint64_t seed_from(uint64_t v) {
         v ^= v >> 30;

@@ -37,8 +37,8 @@ TEST(Pcg32, StreamsDiffer) {
 }
 
 TEST(Pcg32, AdvanceEqualsRepeatedSteps) {
-    for (int64_t n : {int64_t(0), int64_t(1), int64_t(2), int64_t(17), int64_t(1000),
-                      int64_t(65537)}) {
+    for (int64_t n :
+         {int64_t(0), int64_t(1), int64_t(2), int64_t(17), int64_t(1000), int64_t(65537)}) {
         Pcg32 stepped(3, 5), jumped(3, 5);
         for (int64_t i = 0; i < n; ++i) stepped.next_u32();
         jumped.advance(n);

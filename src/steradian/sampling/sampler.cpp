@@ -22,9 +22,12 @@ Randomization randomization_from_string(const std::string& name) {
 
 std::string to_string(Randomization r) {
     switch (r) {
-        case Randomization::kNone: return "none";
-        case Randomization::kXor: return "permutedigits";
-        case Randomization::kOwen: return "owen";
+        case Randomization::kNone:
+            return "none";
+        case Randomization::kXor:
+            return "permutedigits";
+        case Randomization::kOwen:
+            return "owen";
     }
     return "?";
 }
@@ -49,9 +52,7 @@ Float stratum_sample(int stratum, double delta, int n) {
 }
 
 /// Jitter fraction in [0, 1) from 32 hash bits, or the stratum centre.
-double jitter_fraction(bool jitter, uint32_t bits) {
-    return jitter ? double(bits) * 0x1p-32 : 0.5;
-}
+double jitter_fraction(bool jitter, uint32_t bits) { return jitter ? double(bits) * 0x1p-32 : 0.5; }
 
 void check_spp(int spp) {
     if (spp < 1) throw Error(fmt::format("samples per pixel must be at least 1, not {}", spp));
@@ -134,13 +135,13 @@ Point2 StratifiedSampler::get_2d() {
 
 Point2 StratifiedSampler::sample_2d(int dimension) const {
     uint64_t key = hash_combine(m_pixel_key, uint64_t(dimension));
-    auto stratum = int(permutation_element(uint32_t(m_sample_index),
-                                           uint32_t(samples_per_pixel()), uint32_t(key)));
+    auto stratum = int(permutation_element(uint32_t(m_sample_index), uint32_t(samples_per_pixel()),
+                                           uint32_t(key)));
     uint64_t jitter_bits = hash_combine(key, uint64_t(m_sample_index));
     int sx = stratum % m_x_samples, sy = stratum / m_x_samples;
-    return {stratum_sample(sx, jitter_fraction(m_jitter, uint32_t(jitter_bits)), m_x_samples),
-            stratum_sample(sy, jitter_fraction(m_jitter, uint32_t(jitter_bits >> 32)),
-                           m_y_samples)};
+    return {
+        stratum_sample(sx, jitter_fraction(m_jitter, uint32_t(jitter_bits)), m_x_samples),
+        stratum_sample(sy, jitter_fraction(m_jitter, uint32_t(jitter_bits >> 32)), m_y_samples)};
 }
 
 std::unique_ptr<Sampler> StratifiedSampler::clone() const {
@@ -154,8 +155,8 @@ ZSobolSampler::ZSobolSampler(int samples_per_pixel, Vec2i resolution, uint64_t s
     : Sampler(samples_per_pixel), m_seed_key(mix_bits(seed)), m_randomize(randomize) {
     check_spp(samples_per_pixel);
     if (resolution.x < 1 || resolution.y < 1) {
-        throw Error(fmt::format("zsobol sampler: invalid resolution {} x {}", resolution.x,
-                                resolution.y));
+        throw Error(
+            fmt::format("zsobol sampler: invalid resolution {} x {}", resolution.x, resolution.y));
     }
     m_log2_spp = int(std::bit_width(uint32_t(samples_per_pixel) - 1));  // ceil(log2(spp))
     int log2_res = int(std::bit_width(uint32_t(std::max(resolution.x, resolution.y)) - 1));

@@ -24,7 +24,7 @@
 namespace sr {
 
 class Sampler {
-public:
+  public:
     /// Dimensions reserved for get_pixel_2d().
     static constexpr int kPixelDimensions = 2;
 
@@ -48,11 +48,11 @@ public:
     /// The pbrt-v4 style name of the sampler ("independent", "zsobol", ...).
     virtual std::string name() const = 0;
 
-protected:
+  protected:
     Sampler(const Sampler&) = default;
     Sampler& operator=(const Sampler&) = default;
 
-private:
+  private:
     int m_spp;
 };
 
@@ -60,7 +60,7 @@ private:
 /// and seed), positioned at sample_index * 65536 + dimension. Supports up to 65536 dimensions
 /// per sample. The baseline every other sampler must agree with in expectation.
 class IndependentSampler final : public Sampler {
-public:
+  public:
     IndependentSampler(int samples_per_pixel, uint64_t seed = 0);
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override { return m_rng.next_float(); }
@@ -74,7 +74,7 @@ public:
 
     static constexpr int64_t kDimensionsPerSample = 65536;
 
-private:
+  private:
     uint64_t m_seed;
     Pcg32 m_pixel_rng;  // positioned at the sample's dimension 0
     Pcg32 m_rng;        // positioned at the next dimension
@@ -86,7 +86,7 @@ private:
 /// permutation per (pixel, dimension, seed) (Kensler 2013), so dimensions are decorrelated;
 /// jitter places each sample uniformly inside its stratum (otherwise at its centre).
 class StratifiedSampler final : public Sampler {
-public:
+  public:
     StratifiedSampler(int x_samples, int y_samples, bool jitter = true, uint64_t seed = 0);
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override;
@@ -98,7 +98,7 @@ public:
     int x_samples() const { return m_x_samples; }
     int y_samples() const { return m_y_samples; }
 
-private:
+  private:
     Point2 sample_2d(int dimension) const;
 
     int m_x_samples, m_y_samples;
@@ -125,7 +125,7 @@ private:
 /// Every get_1d() uses Sobol dimension 0, every get_2d() Sobol dimensions 0 and 1: the padding
 /// of pbrt-v4, decorrelated across dimensions by the shuffles and scramblings.
 class ZSobolSampler final : public Sampler {
-public:
+  public:
     /// resolution: the film's pixel count (x, y); pixels should lie in [0, resolution).
     ZSobolSampler(int samples_per_pixel, Vec2i resolution, uint64_t seed = 0,
                   Randomization randomize = Randomization::kOwen);
@@ -139,9 +139,11 @@ public:
     /// The shuffled global Sobol index of the current pixel sample for `dimension`.
     uint64_t sobol_index(int dimension) const;
 
-private:
+  private:
     Point2 sample_2d(int dimension) const;
-    uint64_t dimension_key(int dimension) const { return hash_combine(m_seed_key, uint64_t(dimension)); }
+    uint64_t dimension_key(int dimension) const {
+        return hash_combine(m_seed_key, uint64_t(dimension));
+    }
 
     uint64_t m_seed_key;
     Randomization m_randomize;
@@ -153,7 +155,8 @@ private:
 
 /// How PaddedSobolSampler shuffles sample indices per (pixel, dimension).
 enum class SobolIndexShuffle {
-    kNestedUniform,  ///< Burley 2020 nested uniform shuffle (hash-based Owen scrambling of the index)
+    kNestedUniform,  ///< Burley 2020 nested uniform shuffle (hash-based Owen scrambling of the
+                     ///< index)
     kPermutation,    ///< Kensler 2013 permutation of [0, samples_per_pixel) (pbrt-v4 "paddedsobol")
 };
 
@@ -164,7 +167,7 @@ enum class SobolIndexShuffle {
 /// 2^m, each pixel's samples form a (0,m,2)-net in every dimension pair (and are stratified in
 /// every single dimension); different pixels and dimension pairs are decorrelated.
 class PaddedSobolSampler final : public Sampler {
-public:
+  public:
     PaddedSobolSampler(int samples_per_pixel, uint64_t seed = 0,
                        SobolIndexShuffle shuffle = SobolIndexShuffle::kNestedUniform,
                        Randomization randomize = Randomization::kOwen);
@@ -176,7 +179,7 @@ public:
     /// "sobol" for the nested uniform shuffle, "paddedsobol" for the permutation shuffle.
     std::string name() const override;
 
-private:
+  private:
     uint32_t shuffled_index(uint64_t key) const;
     Point2 sample_2d(int dimension) const;
 

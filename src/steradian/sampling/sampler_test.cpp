@@ -90,11 +90,13 @@ TEST(Sampler, DeterministicAndIndependentOfVisitOrder) {
         std::vector<int> order(pixels.size() * spp);
         for (std::size_t k = 0; k < order.size(); ++k) order[k] = int(k);
         Pcg32 rng(99);
-        for (std::size_t k = order.size(); k > 1; --k) std::swap(order[k - 1], order[rng.next_u32(uint32_t(k))]);
+        for (std::size_t k = order.size(); k > 1; --k)
+            std::swap(order[k - 1], order[rng.next_u32(uint32_t(k))]);
         for (std::size_t k = 0; k < order.size(); ++k) {
             int o = order[k];
             Sampler& s = (k & 1) ? *b : *b2;
-            EXPECT_EQ(sample_vector(s, pixels[std::size_t(o / spp)], o % spp, dims), ref[std::size_t(o)])
+            EXPECT_EQ(sample_vector(s, pixels[std::size_t(o / spp)], o % spp, dims),
+                      ref[std::size_t(o)])
                 << c.label << " pixel " << o / spp << " sample " << o % spp;
         }
         EXPECT_EQ(a->samples_per_pixel(), spp);
@@ -234,8 +236,8 @@ TEST(Sampler, LowDiscrepancySamplersGiveZeroTwoNetsPerPixel) {
                 }
                 for (std::size_t k = 0; k < pairs.size(); ++k) {
                     EXPECT_EQ(testing::check_02_net(pairs[k]), "")
-                        << c.label << " spp " << spp << " pixel " << p.x << "," << p.y
-                        << " pair " << k;
+                        << c.label << " spp " << spp << " pixel " << p.x << "," << p.y << " pair "
+                        << k;
                 }
                 for (std::size_t k = 0; k < singles.size(); ++k) {
                     EXPECT_TRUE(testing::is_stratified_1d(singles[k]))
@@ -251,7 +253,8 @@ TEST(Sampler, ZSobolPixelBlocksFormLargerNets) {
     // of the (0,2)-sequence, so their union is again a net: the screen-space blue-noise
     // property.
     for (Randomization r : {Randomization::kOwen, Randomization::kNone}) {
-        for (auto [spp, block] : {std::pair{16, 2}, std::pair{4, 4}, std::pair{8, 2}, std::pair{2, 8}}) {
+        for (auto [spp, block] :
+             {std::pair{16, 2}, std::pair{4, 4}, std::pair{8, 2}, std::pair{2, 8}}) {
             ZSobolSampler s(spp, kResolution, 77, r);
             for (Vec2i origin : {Vec2i{0, 0}, Vec2i{8, 16}, Vec2i{32, 40}}) {
                 std::vector<Point2> pixel_pts, lens_pts;
@@ -292,7 +295,8 @@ TEST(Sampler, PixelsGetDifferentPoints) {
             }
         }
         for (std::size_t i = 0; i < sets.size(); ++i)
-            for (std::size_t j = i + 1; j < sets.size(); ++j) EXPECT_NE(sets[i], sets[j]) << c.label;
+            for (std::size_t j = i + 1; j < sets.size(); ++j)
+                EXPECT_NE(sets[i], sets[j]) << c.label;
         // And different seeds give different samples.
         auto s2 = c.make(4, 1);
         s->start_pixel_sample({2, 2}, 1);
@@ -331,7 +335,8 @@ TEST(Sampler, StratifiedSamplerStratifiesEveryDimension) {
                             EXPECT_NEAR(q.y, (cy + 0.5) / ys, 1e-6);
                         }
                     }
-                    EXPECT_TRUE(std::all_of(count.begin(), count.end(), [](int k) { return k == 1; }))
+                    EXPECT_TRUE(
+                        std::all_of(count.begin(), count.end(), [](int k) { return k == 1; }))
                         << xs << "x" << ys << " jitter " << jitter;
                 }
             }

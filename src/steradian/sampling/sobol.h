@@ -75,9 +75,12 @@ std::string to_string(Randomization r);
 /// Applies the randomization to a 0.32 fixed-point value.
 constexpr uint32_t randomize(uint32_t v, Randomization r, uint32_t seed) {
     switch (r) {
-        case Randomization::kNone: return v;
-        case Randomization::kXor: return v ^ seed;
-        case Randomization::kOwen: return owen_scramble(v, seed);
+        case Randomization::kNone:
+            return v;
+        case Randomization::kXor:
+            return v ^ seed;
+        case Randomization::kOwen:
+            return owen_scramble(v, seed);
     }
     return v;
 }

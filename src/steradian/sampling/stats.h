@@ -61,9 +61,9 @@ double simpson_1d(F&& f, double a, double b, int n) {
 /// cell's Jacobian included in f).
 template <typename F>
 double simpson_2d(F&& f, double x0, double x1, double y0, double y1, int nx, int ny) {
-    return simpson_1d([&](double y) { return simpson_1d([&](double x) { return f(x, y); },
-                                                        x0, x1, nx); },
-                      y0, y1, ny);
+    return simpson_1d(
+        [&](double y) { return simpson_1d([&](double x) { return f(x, y); }, x0, x1, nx); }, y0, y1,
+        ny);
 }
 
 }  // namespace sr

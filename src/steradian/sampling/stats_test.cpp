@@ -18,9 +18,10 @@ TEST(Stats, Chi2SurvivalMatchesClosedForms) {
         // dof 4: Erlang(2, 1/2) tail, exp(-x/2) (1 + x/2).
         EXPECT_NEAR(chi2_sf(x, 4), std::exp(-x / 2) * (1 + x / 2), 1e-12) << x;
         // dof 3: erfc(sqrt(x/2)) + sqrt(2x/pi) exp(-x/2).
-        EXPECT_NEAR(chi2_sf(x, 3),
-                    std::erfc(std::sqrt(x / 2)) + std::sqrt(2 * x / std::numbers::pi) * std::exp(-x / 2),
-                    1e-12)
+        EXPECT_NEAR(
+            chi2_sf(x, 3),
+            std::erfc(std::sqrt(x / 2)) + std::sqrt(2 * x / std::numbers::pi) * std::exp(-x / 2),
+            1e-12)
             << x;
     }
     EXPECT_EQ(chi2_sf(0, 5), 1.0);
@@ -98,8 +99,7 @@ TEST(Stats, SimpsonIsExactForCubics) {
     auto cubic = [](double x) { return 2 * x * x * x - x + 3; };
     // Integral over [-1, 2]: [x^4/2 - x^2/2 + 3x] = (8 - 2 + 6) - (0.5 - 0.5 - 3) = 15.
     EXPECT_NEAR(simpson_1d(cubic, -1, 2, 2), 15.0, 1e-12);
-    EXPECT_NEAR(simpson_2d([](double x, double y) { return x * y; }, 0, 1, 0, 2, 4, 4), 1.0,
-                1e-12);
+    EXPECT_NEAR(simpson_2d([](double x, double y) { return x * y; }, 0, 1, 0, 2, 4, 4), 1.0, 1e-12);
 }
 
 }  // namespace

@@ -53,8 +53,8 @@ double chi2_p_value_2d(const Grid2& g, const std::function<Vec2d(Point2)>& sampl
     double total = 0;
     for (int ib = 0; ib < g.nb; ++ib) {
         for (int ia = 0; ia < g.na; ++ia) {
-            double mass = simpson_2d(density, g.a0 + ia * da, g.a0 + (ia + 1) * da,
-                                     g.b0 + ib * db, g.b0 + (ib + 1) * db, 8, 8);
+            double mass = simpson_2d(density, g.a0 + ia * da, g.a0 + (ia + 1) * da, g.b0 + ib * db,
+                                     g.b0 + (ib + 1) * db, 8, 8);
             expected[std::size_t(ib * g.na + ia)] = mass * n_samples;
             total += mass;
         }
@@ -66,8 +66,8 @@ double chi2_p_value_2d(const Grid2& g, const std::function<Vec2d(Point2)>& sampl
 /// Same for 1D: cells over [a0, a1]; the domain may be cut at a1 with the tail mass put in a
 /// last cell (for unbounded densities).
 double chi2_p_value_1d(double a0, double a1, int n, const std::function<double(Float)>& sample,
-                       const std::function<double(double)>& density, int n_samples,
-                       uint64_t seed, bool tail_cell = false) {
+                       const std::function<double(double)>& density, int n_samples, uint64_t seed,
+                       bool tail_cell = false) {
     std::vector<double> observed(std::size_t(n + (tail_cell ? 1 : 0)), 0.0);
     std::vector<double> expected(observed.size(), 0.0);
     Pcg32 rng(seed);
@@ -188,7 +188,8 @@ TEST(Warp, DiskRoundTripAndJacobian) {
         Point2 u = inner_u(rng, 0.02f);
         double ox = 2.0 * u.x - 1, oy = 2.0 * u.y - 1;
         if (std::abs(std::abs(ox) - std::abs(oy)) < 0.01) continue;
-        double jc = planar_jacobian([](Point2 a) { return to_d(sample_uniform_disk_concentric(a)); }, u);
+        double jc =
+            planar_jacobian([](Point2 a) { return to_d(sample_uniform_disk_concentric(a)); }, u);
         EXPECT_NEAR(jc * uniform_disk_pdf(), 1.0, 1e-2);
         if (u.x < 0.05f) continue;  // polar map: dr/du = 1 / (2 sqrt(u)) is steep near 0
         double jp = planar_jacobian([](Point2 a) { return to_d(sample_uniform_disk_polar(a)); }, u);
@@ -198,8 +199,8 @@ TEST(Warp, DiskRoundTripAndJacobian) {
 }
 
 TEST(Warp, DiskPdfIntegratesToOne) {
-    double total = simpson_2d([](double r, double) { return double(uniform_disk_pdf()) * r; }, 0,
-                              1, 0, 2 * kPiD, 8, 8);
+    double total = simpson_2d([](double r, double) { return double(uniform_disk_pdf()) * r; }, 0, 1,
+                              0, 2 * kPiD, 8, 8);
     EXPECT_NEAR(total, 1.0, 1e-6);  // kInvPi is a float
 }
 
@@ -239,7 +240,9 @@ TEST(Warp, UniformSphereChi2) {
         EXPECT_NEAR(length(w), 1.0f, 1e-5f);
         return spherical_coords(w);
     };
-    auto density = [](double theta, double) { return double(uniform_sphere_pdf()) * std::sin(theta); };
+    auto density = [](double theta, double) {
+        return double(uniform_sphere_pdf()) * std::sin(theta);
+    };
     EXPECT_GT(chi2_p_value_2d(g, sample, density, 500000, 5), kAlpha);
 }
 
@@ -323,7 +326,8 @@ TEST(Warp, DirectionalJacobiansMatchPdfs) {
         }
         // Cosine map: kinks on the diagonals (inherited from the disk map), steep at the rim.
         double ox = 2.0 * u.x - 1, oy = 2.0 * u.y - 1;
-        if (std::abs(std::abs(ox) - std::abs(oy)) < 0.01 || std::max(std::abs(ox), std::abs(oy)) > 0.9)
+        if (std::abs(std::abs(ox) - std::abs(oy)) < 0.01 ||
+            std::max(std::abs(ox), std::abs(oy)) > 0.9)
             continue;
         w = sample_cosine_hemisphere(u);
         EXPECT_NEAR(direction_jacobian(sample_cosine_hemisphere, u) * cosine_hemisphere_pdf(w.z),
@@ -394,7 +398,9 @@ TEST(Warp, BilinearChi2RoundTripAndJacobian) {
     std::array<Float, 4> w = {0.2f, 1.5f, 3.0f, 0.7f};
     Grid2 g{0, 1, 0, 1, 16, 16};
     auto sample = [&](Point2 u) { return to_d(sample_bilinear(u, w)); };
-    auto density = [&](double x, double y) { return double(bilinear_pdf({Float(x), Float(y)}, w)); };
+    auto density = [&](double x, double y) {
+        return double(bilinear_pdf({Float(x), Float(y)}, w));
+    };
     EXPECT_GT(chi2_p_value_2d(g, sample, density, 400000, 16), kAlpha);
     Pcg32 rng(17);
     for (int i = 0; i < 5000; ++i) {
