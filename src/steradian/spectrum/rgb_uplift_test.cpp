@@ -54,13 +54,13 @@ TEST(RgbUplift, ReflectanceStaysInUnitInterval) {
     }
 }
 
-TEST(RgbUplift, ExtremeColoursAreApproximated) {
-    // The primaries themselves lie on the edge of what a smooth reflectance can reach; the fit
-    // must still be close (Jakob & Hanika report small errors there).
+TEST(RgbUplift, ExtremeColoursRoundTrip) {
+    // The primaries and secondaries lie on the edge of the cube; the sigmoid space still
+    // reaches them (with large coefficients).
     for (Rgb c : {Rgb{1, 0, 0}, Rgb{0, 1, 0}, Rgb{0, 0, 1}, Rgb{1, 1, 0}, Rgb{0, 1, 1},
-                  Rgb{1, 0, 1}}) {
+                  Rgb{1, 0, 1}, Rgb{1, 0.5f, 0}, Rgb{0.999f, 0.001f, 0.001f}}) {
         Rgb back = reflectance_rgb(Spectrum(rgb_albedo_spectrum(c)));
-        expect_rgb_near(back, c, 0.05, str(c));
+        expect_rgb_near(back, c, 1e-3, str(c));
     }
 }
 
@@ -133,6 +133,51 @@ TEST(RgbUplift, CachedAndThreadSafe) {
     EXPECT_EQ(first.c0, second.c0);
     EXPECT_EQ(first.c1, second.c1);
     EXPECT_EQ(first.c2, second.c2);
+}
+
+TEST(RgbUpliftInterpolated, RoundTripCloseToTarget) {
+    build_rgb_uplift_table();
+    double sum = 0, worst = 0;
+    int n = 0;
+    for (Float r = 0.02f; r <= 1; r += 0.07f)
+        for (Float g = 0.01f; g <= 1; g += 0.09f)
+            for (Float b = 0.03f; b <= 1; b += 0.08f) {
+                Rgb c{r, g, b};
+                RgbAlbedoSpectrum s = rgb_albedo_spectrum_interpolated(c);
+                Rgb back = reflectance_rgb(Spectrum(s));
+                double e = std::max({std::abs(back.r - c.r), std::abs(back.g - c.g),
+                                     std::abs(back.b - c.b)});
+                sum += e;
+                worst = std::max(worst, e);
+                ++n;
+                ASSERT_LE(s.max_value(), 1) << str(c);
+            }
+    EXPECT_LT(sum / n, 1e-3);
+    EXPECT_LT(worst, 5e-3);
+}
+
+TEST(RgbUpliftInterpolated, AgreesWithExactPath) {
+    for (Rgb c : {Rgb{0.8f, 0.2f, 0.1f}, Rgb{0.05f, 0.9f, 0.3f}, Rgb{0.01f, 0.01f, 0.9f}}) {
+        RgbAlbedoSpectrum exact = rgb_albedo_spectrum(c);
+        RgbAlbedoSpectrum table = rgb_albedo_spectrum_interpolated(c);
+        for (Float l = 380; l <= 780; l += 20) EXPECT_NEAR(table(l), exact(l), 0.02) << str(c);
+    }
+}
+
+TEST(RgbUpliftInterpolated, GreyClampAndNaN) {
+    RgbAlbedoSpectrum g = rgb_albedo_spectrum_interpolated({0.3f, 0.3f, 0.3f});
+    EXPECT_EQ(g.c0, 0);
+    EXPECT_EQ(g.c1, 0);
+    EXPECT_NEAR(g(600), 0.3f, 1e-6f);
+    EXPECT_EQ(rgb_albedo_spectrum_interpolated({1.2f, 1.5f, 1.1f})(500), 1);  // clamped to white
+    EXPECT_EQ(rgb_albedo_spectrum_interpolated({-0.1f, -1, 0})(500), 0);      // clamped to black
+    EXPECT_EQ(rgb_albedo_spectrum_interpolated({std::nanf(""), 0.5f, 0.5f})(500), 0);
+    EXPECT_EQ(rgb_unbounded_spectrum_interpolated({std::nanf(""), 0.5f, 0.5f})(500), 0);
+    RgbUnboundedSpectrum u = rgb_unbounded_spectrum_interpolated({4, 2, 1});
+    EXPECT_FLOAT_EQ(u.scale, 8);
+    expect_rgb_near(reflectance_rgb(Spectrum(u)), {4, 2, 1}, 2e-2, "unbounded (4, 2, 1)");
+    RgbIlluminantSpectrum e = rgb_illuminant_spectrum_interpolated({1, 1, 1});
+    EXPECT_NEAR(spectrum_to_xyz(Spectrum(e)).y, 1.0, 1e-4);
 }
 
 }  // namespace

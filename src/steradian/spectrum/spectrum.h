@@ -157,6 +157,19 @@ RgbUnboundedSpectrum rgb_unbounded_spectrum(Rgb rgb);
 /// under the sRGB white is rgb.
 RgbIlluminantSpectrum rgb_illuminant_spectrum(Rgb rgb);
 
+// Table-based variants for colours that change per shading point (image textures): the
+// Jakob & Hanika coefficient table (64^3 per largest channel, built by the same solver on
+// first use, a few seconds once), trilinearly interpolated: O(1), lock-free,
+// allocation-free. Round-trip error is larger than the exact path's (mean ~5e-4, max ~3e-3
+// in linear sRGB, worst near white). Inputs are clamped (albedo to [0, 1], the others to
+// >= 0) instead of throwing; NaN gives black.
+/// Builds the table now (e.g. at scene load when image textures exist) rather than on the
+/// first *_interpolated call. Idempotent and thread-safe.
+void build_rgb_uplift_table();
+RgbAlbedoSpectrum rgb_albedo_spectrum_interpolated(Rgb rgb);
+RgbUnboundedSpectrum rgb_unbounded_spectrum_interpolated(Rgb rgb);
+RgbIlluminantSpectrum rgb_illuminant_spectrum_interpolated(Rgb rgb);
+
 // ---- named spectra ------------------------------------------------------------------------
 /// pbrt-v4's named spectra ("stdillum-D65", "metal-Au-eta", "glass-BK7", ...), or empty.
 /// Returned as DenselySampledSpectrum (O(1) evaluation, zero outside 360..830 nm);
