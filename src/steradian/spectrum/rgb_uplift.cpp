@@ -342,7 +342,7 @@ private:
     /// Fills sub-table l: per (x, y) column, a solve at a middle z (warm-started from the
     /// previous column), then a walk up and down z warm-started from the neighbour.
     void build(int l, const Quadrature& q) {
-        constexpr double kTolerance = 1e-3;  // Delta E
+        constexpr double kTolerance = 1e-2;  // Delta E, well below visibility
         const int z_start = kRes / 5;
         Vec3 seed{0, 0, 0}, row_seed{0, 0, 0};
         for (int yi = 0; yi < kRes; ++yi) {
@@ -368,10 +368,21 @@ private:
                 // Warm start from the previous column, or from the previous row's first.
                 seed = solve_from(xi == 0 ? row_seed : seed, z_start);
                 if (xi == 0) row_seed = seed;
-                Vec3 c = seed;
-                for (int zi = z_start + 1; zi < kRes; ++zi) c = solve_from(c, zi);
-                c = seed;
-                for (int zi = z_start - 1; zi >= 0; --zi) c = solve_from(c, zi);
+                // Walk z from the seed both ways; the initial guess extrapolates linearly
+                // from the last two solutions (a predictor-corrector continuation).
+                for (int dir : {1, -1}) {
+                    Vec3 c = seed, prev = seed;
+                    for (int zi = z_start + dir, n = 0; zi >= 0 && zi < kRes; zi += dir, ++n) {
+                        Vec3 guess = c;
+                        if (n > 0) {
+                            double f = (m_z[zi] - m_z[zi - dir]) /
+                                       (m_z[zi - dir] - m_z[zi - 2 * dir]);
+                            guess = lerp3(1 + f, prev, c);
+                        }
+                        prev = c;
+                        c = solve_from(guess, zi);
+                    }
+                }
             }
         }
     }
