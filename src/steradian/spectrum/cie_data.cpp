@@ -3,6 +3,8 @@
 
 namespace sr::cie {
 
+// clang-format off
+
 // CIE 1931 standard colorimetric observer (2 degree), colour matching functions
 // xbar, ybar, zbar at 1 nm from 360 to 830 nm.
 // Source: ISO/CIE 11664-1:2019 (CIE S 014-1) "Colorimetry - Part 1: CIE standard
@@ -462,5 +464,7 @@ const float kF[12][kFluorescentCount] = {
         0.28f, 0.28f, 0.21f, 0.17f, 0.21f, 0.19f, 0.15f, 0.10f, 0.05f,
     },
 };
+
+// clang-format on
 
 }  // namespace sr::cie

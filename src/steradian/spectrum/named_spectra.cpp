@@ -59,8 +59,8 @@ std::vector<Float> illuminant_a_pairs() {
     constexpr double c2 = 1.435e7, t = 2848;
     std::vector<Float> pairs;
     for (int l = 300; l <= 830; ++l) {
-        double v = 100 * std::pow(560.0 / l, 5) * std::expm1(c2 / (t * 560)) /
-                   std::expm1(c2 / (t * l));
+        double v =
+            100 * std::pow(560.0 / l, 5) * std::expm1(c2 / (t * 560)) / std::expm1(c2 / (t * l));
         pairs.push_back(Float(l));
         pairs.push_back(Float(v));
     }
@@ -211,8 +211,7 @@ NamedMap build_named_spectra() {
     NamedMap m;
     // Illuminants, normalised to Y = 1 as pbrt-v4 does.
     m["stdillum-D65"] = normalized_illuminant(
-        regular_pairs(cie::kD65, cie::kDaylightCount, cie::kDaylightFirstNm,
-                      cie::kDaylightStepNm));
+        regular_pairs(cie::kD65, cie::kDaylightCount, cie::kDaylightFirstNm, cie::kDaylightStepNm));
     // D50: CIE daylight at 5000 K on the current c2 scale, 5000 * 1.4388 / 1.4380 K.
     m["stdillum-D50"] = normalized_illuminant([] {
         const PiecewiseLinearSpectrum d50 = cie_daylight(Float(5000 * 1.4388 / 1.4380));
@@ -225,9 +224,8 @@ NamedMap build_named_spectra() {
     }());
     m["stdillum-A"] = normalized_illuminant(illuminant_a_pairs());
     for (int i = 0; i < 12; ++i)
-        m[fmt::format("stdillum-F{}", i + 1)] = normalized_illuminant(
-            regular_pairs(cie::kF[i], cie::kFluorescentCount, cie::kFluorescentFirstNm,
-                          cie::kFluorescentStepNm));
+        m[fmt::format("stdillum-F{}", i + 1)] = normalized_illuminant(regular_pairs(
+            cie::kF[i], cie::kFluorescentCount, cie::kFluorescentFirstNm, cie::kFluorescentStepNm));
     // ACES "D60" (Academy TB-2014-004): CIE daylight from the S basis at exactly 6000 K,
     // chromaticity (0.32169, 0.33780), close to the ACES white point (0.32168, 0.33767).
     {
@@ -238,9 +236,9 @@ NamedMap build_named_spectra() {
 
     // Glasses (index of refraction; k = 0).
     const std::pair<const char*, const Sellmeier*> glasses[] = {
-        {"glass-BK7", &kNBk7},    {"glass-BAF10", &kNBaf10}, {"glass-FK51A", &kNFk51a},
+        {"glass-BK7", &kNBk7},     {"glass-BAF10", &kNBaf10}, {"glass-FK51A", &kNFk51a},
         {"glass-LASF9", &kNLasf9}, {"glass-F5", &kSf5},       {"glass-SF5", &kSf5},
-        {"glass-F10", &kNSf10},   {"glass-SF10", &kNSf10},   {"glass-F11", &kNSf11},
+        {"glass-F10", &kNSf10},    {"glass-SF10", &kNSf10},   {"glass-F11", &kNSf11},
         {"glass-SF11", &kNSf11},
     };
     for (const auto& [name, s] : glasses) {
@@ -303,8 +301,8 @@ std::vector<std::string> named_spectrum_names() {
 }
 
 const DenselySampledSpectrum& srgb_illuminant() {
-    static const DenselySampledSpectrum d65 = densely_sampled(
-        Spectrum(piecewise_linear_from_interleaved(
+    static const DenselySampledSpectrum d65 =
+        densely_sampled(Spectrum(piecewise_linear_from_interleaved(
             regular_pairs(cie::kD65, cie::kDaylightCount, cie::kDaylightFirstNm,
                           cie::kDaylightStepNm),
             true)));

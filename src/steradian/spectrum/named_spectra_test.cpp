@@ -21,12 +21,12 @@ Float eval_named(const char* name, Float lambda) {
 TEST(NamedSpectra, ListsPbrtNames) {
     std::vector<std::string> names = named_spectrum_names();
     const char* required[] = {
-        "stdillum-D65",  "stdillum-D50",   "stdillum-A",    "stdillum-F1",    "stdillum-F12",
-        "illum-acesD60", "glass-BK7",      "glass-BAF10",   "glass-FK51A",    "glass-LASF9",
-        "glass-F5",      "glass-F10",      "glass-F11",     "glass-SF5",      "glass-SF10",
-        "glass-SF11",    "metal-Ag-eta",   "metal-Ag-k",    "metal-Al-eta",   "metal-Al-k",
-        "metal-Au-eta",  "metal-Au-k",     "metal-Cu-eta",  "metal-Cu-k",     "metal-CuZn-eta",
-        "metal-CuZn-k",  "metal-MgO-eta",  "metal-MgO-k",   "metal-TiO2-eta", "metal-TiO2-k",
+        "stdillum-D65",  "stdillum-D50",  "stdillum-A",   "stdillum-F1",    "stdillum-F12",
+        "illum-acesD60", "glass-BK7",     "glass-BAF10",  "glass-FK51A",    "glass-LASF9",
+        "glass-F5",      "glass-F10",     "glass-F11",    "glass-SF5",      "glass-SF10",
+        "glass-SF11",    "metal-Ag-eta",  "metal-Ag-k",   "metal-Al-eta",   "metal-Al-k",
+        "metal-Au-eta",  "metal-Au-k",    "metal-Cu-eta", "metal-Cu-k",     "metal-CuZn-eta",
+        "metal-CuZn-k",  "metal-MgO-eta", "metal-MgO-k",  "metal-TiO2-eta", "metal-TiO2-k",
     };
     for (const char* r : required) {
         EXPECT_NE(std::find(names.begin(), names.end(), r), names.end()) << r;
@@ -91,10 +91,10 @@ TEST(NamedSpectra, NobleMetalReflectanceIsPlausible) {
                                   eval_named((m + "-k").c_str(), l));
     };
     EXPECT_NEAR(r("metal-Au", 600), 0.90, 0.04);  // gold: ~0.9 in the red
-    EXPECT_LT(r("metal-Au", 450), 0.45);           // and low in the blue (its colour)
-    EXPECT_GT(r("metal-Ag", 600), 0.95);           // silver: highest of all in the visible
+    EXPECT_LT(r("metal-Au", 450), 0.45);          // and low in the blue (its colour)
+    EXPECT_GT(r("metal-Ag", 600), 0.95);          // silver: highest of all in the visible
     EXPECT_GT(r("metal-Ag", 450), 0.95);
-    EXPECT_NEAR(r("metal-Cu", 650), 0.95, 0.04);  // copper: high in the red
+    EXPECT_NEAR(r("metal-Cu", 650), 0.95, 0.04);   // copper: high in the red
     EXPECT_LT(r("metal-Cu", 450), 0.65);           // low in the blue
     EXPECT_NEAR(r("metal-Al", 550), 0.915, 0.02);  // aluminium: ~0.91, dip near 800 nm
     EXPECT_LT(r("metal-Al", 820), r("metal-Al", 550));

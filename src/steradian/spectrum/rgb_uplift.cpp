@@ -143,13 +143,12 @@ Vec3 eval_xyz(const Quadrature& q, const Vec3& c, Mat3* jac) {
 /// Residual (Lab of the spectrum minus the target Lab) and its Jacobian w.r.t. c.
 Vec3 residual(const Quadrature& q, const Vec3& c, const Vec3& target_lab, Mat3* jac) {
     Mat3 jxyz, jlab;
-    Vec3 lab =
-        xyz_to_lab(eval_xyz(q, c, jac ? &jxyz : nullptr), q.white, jac ? &jlab : nullptr);
+    Vec3 lab = xyz_to_lab(eval_xyz(q, c, jac ? &jxyz : nullptr), q.white, jac ? &jlab : nullptr);
     if (jac) {
         for (int r = 0; r < 3; ++r)
             for (int k = 0; k < 3; ++k)
-                (*jac)[r][k] = jlab[r][0] * jxyz[0][k] + jlab[r][1] * jxyz[1][k] +
-                               jlab[r][2] * jxyz[2][k];
+                (*jac)[r][k] =
+                    jlab[r][0] * jxyz[0][k] + jlab[r][1] * jxyz[1][k] + jlab[r][2] * jxyz[2][k];
     }
     return {lab[0] - target_lab[0], lab[1] - target_lab[1], lab[2] - target_lab[2]};
 }
@@ -295,7 +294,7 @@ Coefficients cached_coefficients(Rgb rgb) {
 /// x z = rgb[(l + 1) % 3], y z = rgb[(l + 2) % 3], on a res^3 grid per l; z nodes are
 /// denser near 0 and 1: z_k = smoothstep(smoothstep(k / (res - 1))).
 class CoefficientTable {
-public:
+  public:
     static constexpr int kRes = 64;
 
     CoefficientTable() : m_z(kRes), m_zf(kRes), m_c(size_t(3) * kRes * kRes * kRes) {
@@ -333,7 +332,7 @@ public:
         return out;
     }
 
-private:
+  private:
     static double smoothstep(double x) { return x * x * (3 - 2 * x); }
     static size_t index(int l, int zi, int yi, int xi) {
         return ((size_t(l) * kRes + zi) * kRes + yi) * kRes + xi;
@@ -375,8 +374,8 @@ private:
                     for (int zi = z_start + dir, n = 0; zi >= 0 && zi < kRes; zi += dir, ++n) {
                         Vec3 guess = c;
                         if (n > 0) {
-                            double f = (m_z[zi] - m_z[zi - dir]) /
-                                       (m_z[zi - dir] - m_z[zi - 2 * dir]);
+                            double f =
+                                (m_z[zi] - m_z[zi - dir]) / (m_z[zi - dir] - m_z[zi - 2 * dir]);
                             guess = lerp3(1 + f, prev, c);
                         }
                         prev = c;
@@ -407,8 +406,8 @@ void check_finite_non_negative(Rgb rgb, const char* what) {
 void check_albedo(Rgb rgb) {
     check_finite_non_negative(rgb, "reflectance");
     if (rgb.r > 1 || rgb.g > 1 || rgb.b > 1)
-        throw Error(fmt::format("reflectance: RGB ({}, {}, {}) must lie in [0, 1]", rgb.r, rgb.g,
-                                rgb.b));
+        throw Error(
+            fmt::format("reflectance: RGB ({}, {}, {}) must lie in [0, 1]", rgb.r, rgb.g, rgb.b));
 }
 
 /// pbrt-v4's unbounded convention: scale = 2 max(r, g, b); the fitted colour is rgb / scale,

@@ -27,8 +27,8 @@ std::string str(Rgb c) {
 
 TEST(RgbUplift, ReflectanceRoundTrip) {
     std::vector<Rgb> colours = {
-        {0.78f, 0.78f, 0.78f}, {0.8f, 0.2f, 0.1f},   {0.05f, 0.9f, 0.3f}, {0.01f, 0.01f, 0.9f},
-        {0.5f, 0.5f, 0.5f},    {0.18f, 0.18f, 0.18f}, {0.9f, 0.9f, 0.1f}, {0.1f, 0.6f, 0.9f},
+        {0.78f, 0.78f, 0.78f}, {0.8f, 0.2f, 0.1f},    {0.05f, 0.9f, 0.3f},   {0.01f, 0.01f, 0.9f},
+        {0.5f, 0.5f, 0.5f},    {0.18f, 0.18f, 0.18f}, {0.9f, 0.9f, 0.1f},    {0.1f, 0.6f, 0.9f},
         {0.3f, 0.1f, 0.6f},    {0.95f, 0.5f, 0.6f},   {0.02f, 0.03f, 0.02f}, {0.99f, 0.98f, 0.97f},
     };
     // A coarse grid over the cube as well.
@@ -145,8 +145,8 @@ TEST(RgbUpliftInterpolated, RoundTripCloseToTarget) {
                 Rgb c{r, g, b};
                 RgbAlbedoSpectrum s = rgb_albedo_spectrum_interpolated(c);
                 Rgb back = reflectance_rgb(Spectrum(s));
-                double e = std::max({std::abs(back.r - c.r), std::abs(back.g - c.g),
-                                     std::abs(back.b - c.b)});
+                double e = std::max(
+                    {std::abs(back.r - c.r), std::abs(back.g - c.g), std::abs(back.b - c.b)});
                 sum += e;
                 worst = std::max(worst, e);
                 ++n;

@@ -92,9 +92,7 @@ Float RgbAlbedoSpectrum::max_value() const { return sigmoid_polynomial_max(c0, c
 Float RgbUnboundedSpectrum::operator()(Float lambda) const {
     return scale * sigmoid_polynomial(c0, c1, c2, lambda);
 }
-Float RgbUnboundedSpectrum::max_value() const {
-    return scale * sigmoid_polynomial_max(c0, c1, c2);
-}
+Float RgbUnboundedSpectrum::max_value() const { return scale * sigmoid_polynomial_max(c0, c1, c2); }
 
 Float RgbIlluminantSpectrum::operator()(Float lambda) const {
     return scale * sigmoid_polynomial(c0, c1, c2, lambda) * illuminant(lambda);
@@ -136,8 +134,8 @@ DenselySampledSpectrum densely_sampled(const Spectrum& s) {
 PiecewiseLinearSpectrum piecewise_linear_from_interleaved(const std::vector<Float>& pairs,
                                                           bool normalize) {
     if (pairs.empty() || pairs.size() % 2 != 0)
-        throw Error(fmt::format("spectrum: expected (lambda, value) pairs, got {} numbers",
-                                pairs.size()));
+        throw Error(
+            fmt::format("spectrum: expected (lambda, value) pairs, got {} numbers", pairs.size()));
     size_t n = pairs.size() / 2;
     auto l = std::make_shared<std::vector<Float>>(n);
     auto v = std::make_shared<std::vector<Float>>(n);
@@ -147,9 +145,9 @@ PiecewiseLinearSpectrum piecewise_linear_from_interleaved(const std::vector<Floa
         if (!std::isfinite((*l)[i]) || !std::isfinite((*v)[i]))
             throw Error(fmt::format("spectrum: non-finite value in pair {}", i));
         if (i > 0 && !((*l)[i] > (*l)[i - 1]))
-            throw Error(fmt::format(
-                "spectrum: wavelengths must increase strictly ({} nm follows {} nm)", (*l)[i],
-                (*l)[i - 1]));
+            throw Error(
+                fmt::format("spectrum: wavelengths must increase strictly ({} nm follows {} nm)",
+                            (*l)[i], (*l)[i - 1]));
     }
     PiecewiseLinearSpectrum s{l, v};
     if (normalize) {

@@ -125,7 +125,7 @@ TEST(Spectrum, SampleMatchesPointEvaluationForEveryAlternative) {
 TEST(Spectrum, MaxValueBoundsEveryAlternative) {
     std::vector<Spectrum> all = {
         Spectrum(cie_z()),
-        Spectrum(BlackbodySpectrum(5000)),  // peak at 580 nm: the bound is tight
+        Spectrum(BlackbodySpectrum(5000)),                // peak at 580 nm: the bound is tight
         Spectrum(RgbAlbedoSpectrum{-2e-4f, 0.23f, -64}),  // peak inside the range
         Spectrum(RgbUnboundedSpectrum{3, 1e-4f, -0.1f, 20}),
         Spectrum(RgbIlluminantSpectrum{1.5f, 0, 0, 0.5f, cie_y()}),
@@ -240,7 +240,7 @@ TEST(Illuminants, ChromaticitiesMatchCie015) {
     };
     // CIE 015 chromaticity coordinates of the CIE illuminants (2 degree observer).
     const Case cases[] = {
-        {"stdillum-A", 0.44757, 0.40745, 1e-3},  {"stdillum-D50", 0.34567, 0.35850, 1e-3},
+        {"stdillum-A", 0.44757, 0.40745, 1e-3},   {"stdillum-D50", 0.34567, 0.35850, 1e-3},
         {"stdillum-D65", 0.31272, 0.32903, 1e-3}, {"stdillum-F1", 0.3131, 0.3373, 2e-3},
         {"stdillum-F2", 0.3721, 0.3751, 2e-3},    {"stdillum-F3", 0.4091, 0.3941, 2e-3},
         {"stdillum-F4", 0.4402, 0.4031, 2e-3},    {"stdillum-F5", 0.3138, 0.3452, 2e-3},
