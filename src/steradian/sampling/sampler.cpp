@@ -170,28 +170,39 @@ void ZSobolSampler::start_pixel_sample(Vec2i pixel, int sample_index, int dimens
     m_morton_index = (encode_morton2(uint32_t(pixel.x), uint32_t(pixel.y)) << m_log2_spp) |
                      uint64_t(uint32_t(sample_index));
     m_dimension = kPixelDimensions + dimension;
+    // Digits are base 4 from the top; if log2(spp) is odd, the lowest digit is a single bit, so
+    // that the boundary between pixel bits and sample bits is always a digit boundary. Each
+    // digit is a node of the quadtree over (pixels, samples), identified by the digits above it
+    // and its level; hash those once per pixel sample, leaving one multiply per digit and
+    // dimension for sobol_index().
+    int odd = m_log2_spp & 1;
+    int top_shift = 2 * m_num_base4_digits - odd;
+    m_index_high_bits = top_shift < 64 ? (m_morton_index >> top_shift) << top_shift : 0;
+    for (int i = odd; i < m_num_base4_digits; ++i) {
+        int shift = 2 * i - odd;
+        uint64_t higher = shift + 2 < 64 ? m_morton_index >> (shift + 2) : 0;
+        m_node_hash[std::size_t(i)] = mix_bits((higher ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
+    }
+    if (odd) m_node_hash[0] = mix_bits((m_morton_index >> 1) ^ m_seed_key);
 }
 
 uint64_t ZSobolSampler::sobol_index(int dimension) const {
-    // Digits are base 4 from the top; if log2(spp) is odd, the lowest digit is a single bit, so
-    // that the boundary between pixel bits and sample bits is always a digit boundary.
+    // Per-node random permutation of the four quadrants (Ahmed & Wonka 2020, Sec. 4: a nested,
+    // Owen-style shuffle of the Morton index in base 4), chosen from the node's hash and the
+    // dimension's key by an odd multiply (a bijection whose top bits depend on all bits).
+    constexpr uint64_t kMul = 0xd6e8feb86659fd93ULL;
     uint64_t key = dimension_key(dimension);
     int odd = m_log2_spp & 1;
-    int top_shift = 2 * m_num_base4_digits - odd;
-    uint64_t result = top_shift < 64 ? (m_morton_index >> top_shift) << top_shift : 0;
-    for (int i = m_num_base4_digits - 1; i >= odd; --i) {
+    uint64_t result = m_index_high_bits;
+    for (int i = odd; i < m_num_base4_digits; ++i) {
         int shift = 2 * i - odd;
         uint64_t digit = (m_morton_index >> shift) & 3;
-        uint64_t higher = (shift + 2 < 64) ? m_morton_index >> (shift + 2) : 0;
-        // Per-level permutation chosen by a hash of the higher digits, the level and the key:
-        // a nested random permutation of the quadtree (Ahmed & Wonka 2020, Sec. 4).
-        uint64_t h = mix_bits((higher ^ key) + kGolden64 * uint64_t(i + 1));
-        auto perm = std::size_t(((h >> 32) * 24) >> 32);
-        digit = kBase4Permutations[perm][digit];
-        result |= digit << shift;
+        uint64_t t = (m_node_hash[std::size_t(i)] ^ key) * kMul;
+        auto perm = std::size_t(((t >> 32) * 24) >> 32);
+        result |= uint64_t(kBase4Permutations[perm][digit]) << shift;
     }
     if (odd) {
-        uint64_t flip = mix_bits((m_morton_index >> 1) ^ key) & 1;
+        uint64_t flip = ((m_node_hash[0] ^ key) * kMul) >> 63;
         result |= (m_morton_index & 1) ^ flip;
     }
     return result;

@@ -13,6 +13,7 @@
 /// start_pixel_sample(). Consumers (camera lens, wavelengths, BSDF and light samples) must
 /// request dimensions in a fixed order per path vertex so that the same sample of the same
 /// pixel always sees the same numbers.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -150,6 +151,8 @@ class ZSobolSampler final : public Sampler {
     int m_log2_spp;
     int m_num_base4_digits;
     uint64_t m_morton_index = 0;
+    uint64_t m_index_high_bits = 0;  // Morton bits above the permuted digits (pixels off-film)
+    std::array<uint64_t, 32> m_node_hash{};  // per base-4 digit: hash of the digits above it
     int m_dimension = kPixelDimensions;
 };
 
