@@ -125,6 +125,9 @@ class StratifiedSampler final : public Sampler {
 /// hash-based Owen scrambling) with a key hashed from the dimension and seed.
 /// Every get_1d() uses Sobol dimension 0, every get_2d() Sobol dimensions 0 and 1: the padding
 /// of pbrt-v4, decorrelated across dimensions by the shuffles and scramblings.
+/// Requires sample_index < samples_per_pixel() (larger indices would alias into the next
+/// pixel's block) and pixels inside the resolution given here (others still work but lose the
+/// screen-space structure).
 class ZSobolSampler final : public Sampler {
   public:
     /// resolution: the film's pixel count (x, y); pixels should lie in [0, resolution).
