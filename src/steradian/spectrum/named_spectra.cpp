@@ -272,19 +272,37 @@ const NamedMap& named_spectra() {
 
 }  // namespace
 
+namespace {
+
+/// CIE daylight at correlated colour temperature cct (K), M1 and M2 rounded to three
+/// decimals as CIE 015 does (this reproduces the official D65 table).
+PiecewiseLinearSpectrum daylight(double cct) {
+    double x = daylight_x(cct);
+    double y = -3 * x * x + 2.870 * x - 0.275;
+    double m1 = 0, m2 = 0;
+    daylight_weights(x, y, m1, m2);
+    m1 = std::round(m1 * 1000) / 1000;
+    m2 = std::round(m2 * 1000) / 1000;
+    return piecewise_linear_from_interleaved(daylight_pairs(m1, m2), false);
+}
+
+}  // namespace
+
 PiecewiseLinearSpectrum cie_daylight(Float cct) {
     if (!(cct >= 4000 && cct <= 25000))
         throw Error(fmt::format(
             "CIE daylight is defined for correlated colour temperatures 4000..25000 K, not {} K",
             cct));
-    double x = daylight_x(cct);
-    double y = -3 * x * x + 2.870 * x - 0.275;
-    double m1 = 0, m2 = 0;
-    daylight_weights(x, y, m1, m2);
-    // CIE 015 rounds M1 and M2 to three decimals; this reproduces the official D65 table.
-    m1 = std::round(m1 * 1000) / 1000;
-    m2 = std::round(m2 * 1000) / 1000;
-    return piecewise_linear_from_interleaved(daylight_pairs(m1, m2), false);
+    return daylight(cct);
+}
+
+Spectrum cie_d_illuminant(Float temperature) {
+    if (!(temperature > 0)) return ConstantSpectrum{0};
+    // pbrt-v4's Spectra::D: the nominal temperature on the c2 = 1.4380e-2 m K scale of the
+    // D-series names, converted to CCT on the current c2 = 1.4388e-2 m K scale (CIE 015).
+    double cct = double(temperature) * 1.4388 / 1.4380;
+    if (cct < 4000) return BlackbodySpectrum(Float(cct));  // daylight is undefined there
+    return daylight(cct);
 }
 
 std::optional<Spectrum> named_spectrum(std::string_view name) {

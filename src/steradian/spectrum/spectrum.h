@@ -144,6 +144,11 @@ inline constexpr double kWienDisplacement = 2.8977721e-3;
 /// sr::Error outside the range. (D65 is cct = 6500 * 1.4388 / 1.4380 = 6504 K; the
 /// tabulated "stdillum-D65" is the official table.)
 PiecewiseLinearSpectrum cie_daylight(Float cct);
+/// pbrt-v4's Spectra::D(T) (used for "whitebalance"): CIE daylight for the nominal
+/// temperature T in K, i.e. at cct = T * 1.4388 / 1.4380 (so 6500 gives D65 and 5000 gives
+/// D50); a blackbody below 4000 K, where daylight is undefined; extrapolated above 25000 K.
+/// Relative units (not normalised); zero for T <= 0.
+Spectrum cie_d_illuminant(Float temperature);
 
 // ---- RGB uplift (sRGB colour space, D65) ------------------------------------------------
 // Solved per colour at load time (Gauss-Newton with continuation in CIELAB, Jakob & Hanika

@@ -240,14 +240,23 @@ TEST(Illuminants, ChromaticitiesMatchCie015) {
     };
     // CIE 015 chromaticity coordinates of the CIE illuminants (2 degree observer).
     const Case cases[] = {
-        {"stdillum-A", 0.44757, 0.40745, 1e-3},   {"stdillum-D50", 0.34567, 0.35850, 1e-3},
-        {"stdillum-D65", 0.31272, 0.32903, 1e-3}, {"stdillum-F1", 0.3131, 0.3373, 2e-3},
-        {"stdillum-F2", 0.3721, 0.3751, 2e-3},    {"stdillum-F3", 0.4091, 0.3941, 2e-3},
-        {"stdillum-F4", 0.4402, 0.4031, 2e-3},    {"stdillum-F5", 0.3138, 0.3452, 2e-3},
-        {"stdillum-F6", 0.3779, 0.3882, 2e-3},    {"stdillum-F7", 0.3129, 0.3292, 2e-3},
-        {"stdillum-F8", 0.3458, 0.3586, 2e-3},    {"stdillum-F9", 0.3741, 0.3727, 2e-3},
-        {"stdillum-F10", 0.3458, 0.3588, 2e-3},   {"stdillum-F11", 0.3805, 0.3769, 2e-3},
-        {"stdillum-F12", 0.4370, 0.4042, 2e-3},
+        {"stdillum-A", 0.44757, 0.40745, 1e-3},
+        {"stdillum-D50", 0.34567, 0.35850, 1e-3},
+        {"stdillum-D65", 0.31272, 0.32903, 2e-4},
+        {"stdillum-F1", 0.3131, 0.3373, 5e-4},
+        {"stdillum-F2", 0.3721, 0.3751, 5e-4},
+        {"stdillum-F3", 0.4091, 0.3941, 5e-4},
+        {"stdillum-F4", 0.4402, 0.4031, 5e-4},
+        {"stdillum-F5", 0.3138, 0.3452, 5e-4},
+        {"stdillum-F6", 0.3779, 0.3882, 5e-4},
+        {"stdillum-F7", 0.3129, 0.3292, 5e-4},
+        {"stdillum-F8", 0.3458, 0.3586, 5e-4},
+        {"stdillum-F9", 0.3741, 0.3727, 5e-4},
+        {"stdillum-F10", 0.3458, 0.3588, 5e-4},
+        {"stdillum-F11", 0.3805, 0.3769, 5e-4},
+        {"stdillum-F12", 0.4370, 0.4042, 5e-4},
+        // ACES white point (Academy S-2014-004).
+        {"illum-acesD60", 0.32168, 0.33767, 1e-4},
     };
     for (const Case& c : cases) {
         std::optional<Spectrum> s = named_spectrum(c.name);
@@ -271,6 +280,25 @@ TEST(Illuminants, DaylightBasisReproducesTabulatedD65) {
     EXPECT_NEAR(d(700), 71.6091, 1e-3);
     EXPECT_NEAR(d(830), 60.3125, 1e-3);
     EXPECT_THROW(cie_daylight(3000), Error);
+}
+
+TEST(Illuminants, PbrtStyleDIlluminant) {
+    // Nominal 6500 K is D65 and 5000 K is D50 (CIE 015 white points).
+    Vec2d d65 = chromaticity(spectrum_to_xyz(cie_d_illuminant(6500)));
+    EXPECT_NEAR(d65.x, 0.31272, 2e-4);
+    EXPECT_NEAR(d65.y, 0.32903, 2e-4);
+    Vec2d d50 = chromaticity(spectrum_to_xyz(cie_d_illuminant(5000)));
+    EXPECT_NEAR(d50.x, 0.34567, 5e-4);
+    EXPECT_NEAR(d50.y, 0.35850, 5e-4);
+    // Below 4000 K: a Planckian radiator. Illuminant A is Planckian at 2848 K with
+    // c2 = 1.435e-2 m K, i.e. at 2848 * 1.4388 / 1.435 K with today's c2 (Planck's constants
+    // here give c2 = hc / kb = 1.43878e-2 m K).
+    Spectrum a = cie_d_illuminant(Float(2848 * 1.4388 / 1.435 * 1.4380 / 1.4388));
+    ASSERT_TRUE(a.get_if<BlackbodySpectrum>());
+    Vec2d xa = chromaticity(spectrum_to_xyz(a));
+    EXPECT_NEAR(xa.x, 0.44757, 2e-4);
+    EXPECT_NEAR(xa.y, 0.40745, 2e-4);
+    EXPECT_EQ(cie_d_illuminant(0)(500), 0);
 }
 
 TEST(Illuminants, DaylightChromaticityFollowsCct) {
