@@ -127,8 +127,8 @@ INSTANTIATE_TEST_SUITE_P(
         // emitting sphere of luminance 1000 cd/m^2, radius 0.5, centre 2 m above the foot:
         // E = pi L (r / d)^2 (a sphere subtending a cone of half-angle asin(r/d)).
         DirectCase{"sphere area", "AttributeBegin AreaLightSource \"diffuse\" \"float scale\" [ 1000 ] Translate 0 2 0 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd", kPiD * 1000 * 0.0625 / 1}),
-    [](const auto& info) {
-        std::string n = info.param.name;
+    [](const auto& param_info) {
+        std::string n = param_info.param.name;
         for (auto& ch : n)
             if (ch == ' ') ch = '_';
         return n;

@@ -22,7 +22,7 @@ struct SourceLoc {
 /// whole message, prefixed by the location when there is one.
 class Error : public std::runtime_error {
 public:
-    explicit Error(const std::string& msg) : std::runtime_error(msg) {}
+    explicit Error(const std::string& msg) : std::runtime_error(msg), m_message(msg) {}
     Error(const SourceLoc& loc, const std::string& msg)
         : std::runtime_error(loc.file.empty() ? msg : loc.to_string() + ": " + msg),
           m_loc(loc),

@@ -13,6 +13,7 @@ Float gaussian(Float x, Float sigma) {
 Filter::Filter(FilterType type, Vec2 radius, Float sigma)
     : m_type(type), m_radius(radius), m_sigma(sigma) {
     if (type != FilterType::Gaussian) return;
+    for (int a = 0; a < 2; ++a) m_gauss_at_radius[a] = gaussian(m_radius[a], m_sigma);
     for (int a = 0; a < 2; ++a) {
         int n = std::max(8, int(std::ceil(64 * m_radius[a])));
         m_func[a].resize(n);
@@ -38,7 +39,7 @@ Float Filter::eval_1d(Float x, int a) const {
         case FilterType::Box: return 1;
         case FilterType::Triangle: return std::max(Float(0), r - std::abs(x));
         case FilterType::Gaussian:
-            return std::max(Float(0), gaussian(x, m_sigma) - gaussian(r, m_sigma));
+            return std::max(Float(0), gaussian(x, m_sigma) - m_gauss_at_radius[a]);
     }
     return 0;
 }

@@ -32,6 +32,7 @@ private:
     FilterType m_type;
     Vec2 m_radius;
     Float m_sigma;
+    Float m_gauss_at_radius[2] = {0, 0};  ///< subtracted so the gaussian reaches 0 at r
     // Gaussian: per-axis piecewise-constant tabulation (value per cell, cdf).
     std::vector<Float> m_func[2], m_cdf[2];
     Float m_integral[2] = {1, 1};

@@ -94,15 +94,25 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
 ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {
     const auto& P = *p;
     const uint32_t* v = &(*indices)[3 * i];
+    Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
     auto b = sample_uniform_triangle(u);
     ShapeSample s;
-    SurfaceHit h;
-    fill_hit(i, b[1], b[2], h);
-    s.p = h.p;
-    s.p_error = h.p_error;
-    s.n = h.ng;
-    Float area = Float(0.5) * length(cross(P[v[1]] - P[v[0]], P[v[2]] - P[v[0]]));
-    s.pdf = area > 0 ? 1 / area : 0;
+    s.p = p0 * b[0] + p1 * b[1] + p2 * b[2];
+    Vec3 abs_sum{std::abs(b[0] * p0.x) + std::abs(b[1] * p1.x) + std::abs(b[2] * p2.x),
+                 std::abs(b[0] * p0.y) + std::abs(b[1] * p1.y) + std::abs(b[2] * p2.y),
+                 std::abs(b[0] * p0.z) + std::abs(b[1] * p1.z) + std::abs(b[2] * p2.z)};
+    s.p_error = abs_sum * gamma_bound(6);
+    Vec3 c = cross(p1 - p0, p2 - p0);
+    Float len = length(c);
+    Normal3 ng = len > 0 ? c / len : Vec3(0, 0, 1);
+    if (flip_normals) ng = -ng;
+    if (n && !n->empty()) {
+        // As fill_hit: the geometric normal faces the interpolated shading normal.
+        Normal3 ns = (*n)[v[0]] * b[0] + (*n)[v[1]] * b[1] + (*n)[v[2]] * b[2];
+        if (length_squared(ns) > 0) ng = face_forward(ng, ns);
+    }
+    s.n = ng;
+    s.pdf = len > 0 ? 2 / len : 0;
     return s;
 }
 
@@ -197,7 +207,6 @@ ShapeSample Sphere::sample_from(Point3 ref, Point2 u) const {
     }
     // Sample the cone of directions subtended by the sphere (uniform in solid angle),
     // then find the point on the sphere (Pharr et al. 4th ed. sec. 6.2.4).
-    Float dc = std::sqrt(dc2);
     Float sin2_max = sqr(r_world) / dc2;
     Float sin_max = safe_sqrt(sin2_max);
     Float cos_max = safe_sqrt(1 - sin2_max);

@@ -51,10 +51,10 @@ SampledSpectrum ImageSpectrumTexture::evaluate(const SurfaceHit& h,
     switch (kind) {
         case SpectrumKind::Albedo: {
             c = {clamp(c.r, Float(0), Float(1)), clamp(c.g, Float(0), Float(1)), clamp(c.b, Float(0), Float(1))};
-            return Spectrum(rgb_albedo_spectrum(c)).sample(lambda);
+            return Spectrum(rgb_albedo_spectrum_interpolated(c)).sample(lambda);
         }
-        case SpectrumKind::Unbounded: return Spectrum(rgb_unbounded_spectrum(c)).sample(lambda);
-        case SpectrumKind::Illuminant: return Spectrum(rgb_illuminant_spectrum(c)).sample(lambda);
+        case SpectrumKind::Unbounded: return Spectrum(rgb_unbounded_spectrum_interpolated(c)).sample(lambda);
+        case SpectrumKind::Illuminant: return Spectrum(rgb_illuminant_spectrum_interpolated(c)).sample(lambda);
     }
     return SampledSpectrum(0);
 }

@@ -168,7 +168,7 @@ private:
         Float wb = ps.get_float("whitebalance", 0);
         if (wb > 0) {
             // White balance from the CIE daylight illuminant of that temperature.
-            Xyz w = spectrum_to_xyz(cie_daylight(wb));
+            Xyz w = spectrum_to_xyz(cie_d_illuminant(wb));
             Float sum = w.x + w.y + w.z;
             fp.rgb_from_sensor = srgb_from_xyz_white_balanced(w.x / sum, w.y / sum);
         } else {
@@ -387,6 +387,7 @@ private:
                 m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
                 m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
             } else if (t.type == "imagemap") {
+                build_rgb_uplift_table();  // per-lookup RGB uplift (once per process)
                 ImageSpectrumTexture it;
                 it.mapping = read_mapping(t, ps);
                 it.image = load_image(t, ps);

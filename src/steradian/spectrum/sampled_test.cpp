@@ -1,4 +1,5 @@
 #include "steradian/spectrum/sampled.h"
+#include "steradian/spectrum/spectrum.h"
 
 #include <gtest/gtest.h>
 
@@ -35,14 +36,45 @@ TEST(SampledWavelengths, InverseCdfSampling) {
 }
 
 TEST(SampledWavelengths, SampleVisibleRotatesHeroWavelength) {
-    SampledWavelengths w = SampledWavelengths::sample_visible(0.3f);
-    for (int i = 0; i < kSpectrumSamples; ++i) {
-        Float up = 0.3f + Float(i) / kSpectrumSamples;
-        if (up > 1) up -= 1;
-        EXPECT_FLOAT_EQ(w.lambda[i], sample_visible_wavelengths(up));
-        EXPECT_FLOAT_EQ(w.pdf[i], visible_wavelengths_pdf(w.lambda[i]));
-        EXPECT_GT(w.pdf[i], 0);
+    // The wavelengths are the hero's primary sample rotated by multiples of 1/N.
+    for (Float u : {0.0f, 0.3f, 0.61f, 0.999f}) {
+        SampledWavelengths w = SampledWavelengths::sample_visible(u);
+        uint32_t bits = uint32_t(u * Float(1 << 24));
+        Float hero = Float(bits >> 2) / Float(1 << 22) / kSpectrumSamples +
+                     Float(bits & 3) / kSpectrumSamples;
+        for (int i = 0; i < kSpectrumSamples; ++i) {
+            Float up = hero + Float(i) / kSpectrumSamples;
+            if (up >= 1) up -= 1;
+            EXPECT_NEAR(w.lambda[i], sample_visible_wavelengths(up), 1e-3f);
+            EXPECT_FLOAT_EQ(w.pdf[i], visible_wavelengths_pdf(w.lambda[i]));
+            EXPECT_GT(w.pdf[i], 0);
+        }
     }
+}
+
+// Stratified over u in [0, 1), the average over all wavelengths and the hero alone (after
+// terminate_secondary) both estimate an integral over wavelength without bias: here the
+// integral of CIE ybar, kCieYIntegral (CIE 015 table sum at 1 nm).
+TEST(SampledWavelengths, SampleVisibleEstimatesIntegralsWithoutBias) {
+    const auto& ybar = cie_y();
+    const int n = 1 << 16;
+    double all = 0, hero = 0, hero2 = 0;
+    for (int k = 0; k < n; ++k) {
+        Float u = (Float(k) + 0.5f) / Float(n);
+        SampledWavelengths w = SampledWavelengths::sample_visible(u);
+        double s = 0;
+        for (int i = 0; i < kSpectrumSamples; ++i) s += ybar(w.lambda[i]) / w.pdf[i];
+        all += s / kSpectrumSamples;
+        w.terminate_secondary();
+        double h = ybar(w.lambda[0]) / w.pdf[0] / kSpectrumSamples;
+        hero += h;
+        hero2 += h * h;
+    }
+    all /= n;
+    hero /= n;
+    double se = std::sqrt(std::max(0.0, hero2 / n - hero * hero) / n);
+    EXPECT_NEAR(all, kCieYIntegral, 1e-3 * kCieYIntegral);
+    EXPECT_NEAR(hero, kCieYIntegral, std::max(4.5 * se, 1e-3 * kCieYIntegral));
 }
 
 TEST(SampledWavelengths, TerminateSecondaryKeepsEstimatorUnbiased) {

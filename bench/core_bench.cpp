@@ -1,0 +1,146 @@
+// Micro-benchmarks of the per-vertex operations: ray casts (closest hit and shadow) in the
+// Cornell box, BSDF sample/eval, light sampling, spectrum evaluation and the film's sensor
+// response. Run: build/release/steradian_bench --benchmark_filter=...
+#include <benchmark/benchmark.h>
+
+#include "steradian/bsdf/bsdf.h"
+#include "steradian/film/film.h"
+#include "steradian/sampling/rng.h"
+#include "steradian/sampling/warp.h"
+#include "steradian/scene/build.h"
+#include "steradian/scene/pbrt/parser.h"
+
+namespace sr {
+namespace {
+
+const Scene& cornell() {
+    static Scene s = [] {
+        set_warnings_quiet(true);
+        return build_scene(parse_pbrt_file(std::string(STERADIAN_SOURCE_DIR) + "/scenes/cornell-box.pbrt"));
+    }();
+    return s;
+}
+
+/// Random rays from inside the box in uniformly distributed directions.
+std::vector<Ray> box_rays(size_t n) {
+    Pcg32 rng(1, 2);
+    std::vector<Ray> rays(n);
+    for (auto& r : rays) {
+        Point3 o(50 + 450 * rng.next_float(), 50 + 450 * rng.next_float(), 50 + 450 * rng.next_float());
+        r = Ray{o, sample_uniform_sphere(Point2(rng.next_float(), rng.next_float())), kInfinity};
+    }
+    return rays;
+}
+
+void BM_RayCastClosestHit(benchmark::State& state) {
+    const Scene& s = cornell();
+    auto rays = box_rays(4096);
+    size_t i = 0;
+    for (auto _ : state) {
+        SurfaceHit h;
+        benchmark::DoNotOptimize(s.intersect(rays[i++ & 4095], h));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_RayCastClosestHit);
+
+void BM_RayCastShadow(benchmark::State& state) {
+    const Scene& s = cornell();
+    auto rays = box_rays(4096);
+    for (auto& r : rays) r.t_max = 300;
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(s.occluded(rays[i++ & 4095]));
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_RayCastShadow);
+
+void BM_LambertSample(benchmark::State& state) {
+    Pcg32 rng;
+    LambertLobe l{SampledSpectrum(0.5f)};
+    Bsdf b(Frame::from_z(normalize(Vec3(0.1f, 0.2f, 1))), Vec3(0, 0, 1), l);
+    Vec3 wo = normalize(Vec3(0.3f, -0.2f, 0.9f));
+    for (auto _ : state) {
+        auto s = b.sample(wo, rng.next_float(), Point2(rng.next_float(), rng.next_float()));
+        benchmark::DoNotOptimize(s);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_LambertSample);
+
+void BM_LambertEval(benchmark::State& state) {
+    Pcg32 rng;
+    LambertLobe l{SampledSpectrum(0.5f)};
+    Bsdf b(Frame::from_z(Vec3(0, 0, 1)), Vec3(0, 0, 1), l);
+    Vec3 wo = normalize(Vec3(0.3f, -0.2f, 0.9f));
+    for (auto _ : state) {
+        Vec3 wi = sample_cosine_hemisphere(Point2(rng.next_float(), rng.next_float()));
+        benchmark::DoNotOptimize(b.f(wo, wi));
+        benchmark::DoNotOptimize(b.pdf(wo, wi));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_LambertEval);
+
+void BM_AreaLightSample(benchmark::State& state) {
+    const Scene& s = cornell();
+    Pcg32 rng;
+    LightSampleContext ctx{Point3(278, 100, 300), Vec3(0, 0, 0), Vec3(0, 1, 0)};
+    auto lambda = SampledWavelengths::sample_visible(0.3f);
+    for (auto _ : state) {
+        Float pmf;
+        int li = s.light_sampler.sample(rng.next_float(), pmf);
+        auto ls = sample_li(s.lights[li], ctx, Point2(rng.next_float(), rng.next_float()), lambda);
+        benchmark::DoNotOptimize(ls);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_AreaLightSample);
+
+void BM_SpectrumSampleDense(benchmark::State& state) {
+    Spectrum sp = densely_sampled(BlackbodySpectrum(3000));
+    Pcg32 rng;
+    for (auto _ : state) {
+        auto lambda = SampledWavelengths::sample_visible(rng.next_float());
+        benchmark::DoNotOptimize(sp.sample(lambda));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_SpectrumSampleDense);
+
+void BM_SpectrumSampleRgbAlbedo(benchmark::State& state) {
+    Spectrum sp = rgb_albedo_spectrum({0.7f, 0.3f, 0.2f});
+    Pcg32 rng;
+    for (auto _ : state) {
+        auto lambda = SampledWavelengths::sample_visible(rng.next_float());
+        benchmark::DoNotOptimize(sp.sample(lambda));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_SpectrumSampleRgbAlbedo);
+
+void BM_FilmToSensor(benchmark::State& state) {
+    FilmParams fp;
+    fp.rgb_from_sensor = srgb_from_xyz_matrix();
+    Film film(fp);
+    Pcg32 rng;
+    for (auto _ : state) {
+        auto lambda = SampledWavelengths::sample_visible(rng.next_float());
+        benchmark::DoNotOptimize(film.to_sensor(SampledSpectrum(1), lambda));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_FilmToSensor);
+
+void BM_RgbUpliftSolve(benchmark::State& state) {
+    // Distinct colours each iteration, so the solver (not the cache) is measured.
+    Pcg32 rng(5);
+    for (auto _ : state) {
+        Rgb c{rng.next_float(), rng.next_float(), rng.next_float()};
+        benchmark::DoNotOptimize(rgb_albedo_spectrum(c));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_RgbUpliftSolve)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace sr

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs every build and test dependency of steradian from Debian's package archive.
+# Safe to run twice: apt-get install skips what is already installed.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libembree-dev          # Embree 3: all ray queries
+  libtbb-dev             # oneTBB: parallel tiles
+  libopenimageio-dev     # image I/O (EXR, PNG, ...) and textures
+  openimageio-tools      # oiiotool, for inspecting renders
+  libopenexr-dev
+  libfmt-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
