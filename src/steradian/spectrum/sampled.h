@@ -4,6 +4,7 @@
 /// a spectral quantity at those wavelengths.
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "steradian/core/math.h"
 
@@ -110,14 +111,17 @@ struct SampledWavelengths {
     /// The average over the N rotated wavelengths is a 1/N-periodic function of the hero's
     /// primary sample, so stratifying u over [0, 1) stratifies that function only
     /// spp/N ways. Instead the high bits of u place the rotation offset within one period
-    /// (spp-way stratified there) and its two lowest bits choose which rotation is the hero
-    /// (so the hero alone, after terminate_secondary(), is still uniform over [0, 1)). For a
-    /// spiky emission spectrum at 64 spp this lowers the spectral RMSE four-fold.
+    /// (spp-way stratified there), and a hash of them chooses which rotation is the hero, so
+    /// the hero alone (after terminate_secondary) is still uniform over [0, 1) up to a
+    /// 2^-22-fine interleaving of the four quarters, even for regular u (stratum centres). For
+    /// a spiky emission spectrum at 64 spp this lowers the spectral RMSE four-fold.
     static SampledWavelengths sample_visible(Float u) {
         static_assert(kSpectrumSamples == 4, "the period split below uses two bits");
         uint32_t bits = uint32_t(u * Float(1 << 24));  // u has 24 significant bits
-        Float offset = Float(bits >> 2) * Float(1.0 / (1 << 22)) / kSpectrumSamples;
-        Float hero = offset + Float(bits & 3) / kSpectrumSamples;
+        uint32_t high = bits >> 2;
+        Float offset = Float(high) * Float(1.0 / (1 << 22)) / kSpectrumSamples;
+        uint32_t quarter = (high * 0x9E3779B1u) >> 30;  // Fibonacci hashing: top two bits
+        Float hero = offset + Float(quarter) / kSpectrumSamples;
         SampledWavelengths w;
         for (int i = 0; i < kSpectrumSamples; ++i) {
             Float up = hero + Float(i) / kSpectrumSamples;

@@ -40,8 +40,9 @@ TEST(SampledWavelengths, SampleVisibleRotatesHeroWavelength) {
     for (Float u : {0.0f, 0.3f, 0.61f, 0.999f}) {
         SampledWavelengths w = SampledWavelengths::sample_visible(u);
         uint32_t bits = uint32_t(u * Float(1 << 24));
-        Float hero = Float(bits >> 2) / Float(1 << 22) / kSpectrumSamples +
-                     Float(bits & 3) / kSpectrumSamples;
+        uint32_t high = bits >> 2;
+        Float hero = Float(high) / Float(1 << 22) / kSpectrumSamples +
+                     Float((high * 0x9E3779B1u) >> 30) / kSpectrumSamples;
         for (int i = 0; i < kSpectrumSamples; ++i) {
             Float up = hero + Float(i) / kSpectrumSamples;
             if (up >= 1) up -= 1;
