@@ -16,11 +16,26 @@ PerspectiveCamera::PerspectiveCamera(const CameraParams& params, Float fov_deg) 
     Transform screen_from_camera = Transform::perspective(fov_deg, 1e-2, 1000);
     m_camera_from_raster =
         screen_from_camera.inverse() * raster_from_screen(m_p.screen, m_p.resolution).inverse();
+    // At raster z = 0 the perspective divide is a constant (the near plane), so the map from
+    // raster (x, y) to a camera-space direction is affine; keep it and world-from-camera in
+    // float for the per-sample path.
+    Vec3d o = m_camera_from_raster.point(Vec3d(0, 0, 0));
+    Vec3d ex = m_camera_from_raster.point(Vec3d(1, 0, 0)) - o;
+    Vec3d ey = m_camera_from_raster.point(Vec3d(0, 1, 0)) - o;
+    for (int i = 0; i < 3; ++i) {
+        m_raster[i][0] = Float(ex[i]);
+        m_raster[i][1] = Float(ey[i]);
+        m_raster[i][2] = 0;
+        m_raster[i][3] = Float(o[i]);
+        for (int j = 0; j < 4; ++j) m_world[i][j] = Float(m_p.world_from_camera.matrix().m[i][j]);
+    }
 }
 
 Ray PerspectiveCamera::generate_ray(Point2 p_film, Point2 u_lens) const {
-    Vec3d pc = m_camera_from_raster.point(Vec3d(p_film.x, p_film.y, 0));
-    Vec3 dir = normalize(Vec3(pc));
+    Vec3 pc(m_raster[0][0] * p_film.x + m_raster[0][1] * p_film.y + m_raster[0][3],
+            m_raster[1][0] * p_film.x + m_raster[1][1] * p_film.y + m_raster[1][3],
+            m_raster[2][0] * p_film.x + m_raster[2][1] * p_film.y + m_raster[2][3]);
+    Vec3 dir = normalize(pc);
     Point3 o(0, 0, 0);
     if (m_p.lens_radius > 0) {
         Point2 pl = sample_uniform_disk_concentric(u_lens) * m_p.lens_radius;
@@ -29,8 +44,14 @@ Ray PerspectiveCamera::generate_ray(Point2 p_film, Point2 u_lens) const {
         o = Point3(pl.x, pl.y, 0);
         dir = normalize(p_focus - o);
     }
-    const Transform& w = m_p.world_from_camera;
-    return Ray{w.point(o), normalize(w.vector(dir)), kInfinity};
+    const auto& w = m_world;
+    Point3 ow(w[0][0] * o.x + w[0][1] * o.y + w[0][2] * o.z + w[0][3],
+              w[1][0] * o.x + w[1][1] * o.y + w[1][2] * o.z + w[1][3],
+              w[2][0] * o.x + w[2][1] * o.y + w[2][2] * o.z + w[2][3]);
+    Vec3 dw(w[0][0] * dir.x + w[0][1] * dir.y + w[0][2] * dir.z,
+            w[1][0] * dir.x + w[1][1] * dir.y + w[1][2] * dir.z,
+            w[2][0] * dir.x + w[2][1] * dir.y + w[2][2] * dir.z);
+    return Ray{ow, normalize(dw), kInfinity};
 }
 
 Point3 PerspectiveCamera::position() const { return m_p.world_from_camera.point(Point3(0, 0, 0)); }

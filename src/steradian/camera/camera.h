@@ -37,6 +37,8 @@ public:
 private:
     CameraParams m_p;
     Transform m_camera_from_raster;
+    Float m_raster[3][4];  ///< camera-from-raster (affine part), in float for speed
+    Float m_world[3][4];   ///< world-from-camera, in float
 };
 
 class OrthographicCamera final : public Camera {

@@ -35,6 +35,7 @@ private:
     Float m_gauss_at_radius[2] = {0, 0};  ///< subtracted so the gaussian reaches 0 at r
     // Gaussian: per-axis piecewise-constant tabulation (value per cell, cdf).
     std::vector<Float> m_func[2], m_cdf[2];
+    std::vector<int> m_guide[2];  ///< guide[j]: first cell whose cdf end exceeds j / size
     Float m_integral[2] = {1, 1};
 };
 

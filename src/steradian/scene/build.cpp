@@ -286,7 +286,7 @@ private:
         const ParamSet& ps = e.params;
         IntegratorSettings is;
         if (type == "path" || type == "volpath") {
-            if (type == "volpath")
+            if (type == "volpath" && !e.type.empty())
                 warning(e.loc, "Integrator \"volpath\" is rendered by \"path\" (no participating media)");
             is.max_depth = ps.get_int("maxdepth", 5);
             is.regularize = ps.get_bool("regularize", false);

@@ -99,6 +99,14 @@ inline Float visible_wavelengths_pdf(Float lambda) {
 inline Float sample_visible_wavelengths(Float u) {
     return 538 - Float(138.888889) * std::atanh(Float(0.85691062) - Float(1.82750197) * u);
 }
+/// Both at once, cheaply: with y = 0.85691062 - 1.82750197 u the sample is
+/// 538 - atanh(y) / 0.0072, and since cosh^2(atanh y) = 1 / (1 - y^2) its pdf is
+/// 0.0039398042 (1 - y^2): one logarithm, no cosh.
+inline Float sample_visible_wavelengths(Float u, Float& pdf) {
+    Float y = Float(0.85691062) - Float(1.82750197) * u;
+    pdf = Float(0.0039398042) * (1 - y * y);
+    return 538 - Float(138.888889) * Float(0.5) * std::log((1 + y) / (1 - y));
+}
 
 /// The wavelengths of one path and their sampling pdfs.
 struct SampledWavelengths {
@@ -126,8 +134,7 @@ struct SampledWavelengths {
         for (int i = 0; i < kSpectrumSamples; ++i) {
             Float up = hero + Float(i) / kSpectrumSamples;
             if (up >= 1) up -= 1;
-            w.lambda[i] = sample_visible_wavelengths(up);
-            w.pdf[i] = visible_wavelengths_pdf(w.lambda[i]);
+            w.lambda[i] = sample_visible_wavelengths(up, w.pdf[i]);
         }
         return w;
     }

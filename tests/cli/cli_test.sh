@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# End-to-end tests of the command line: exit codes, messages, output formats, --time.
+# Usage: tests/cli/cli_test.sh path/to/steradian
+set -u
+bin=$(realpath "$1")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+check() {  # check NAME CONDITION...
+  local name=$1
+  shift
+  if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL: $name"; fi
+}
+
+cat > "$tmp/small.pbrt" <<'SCENE'
+LookAt 0 0 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 12 ] "string filename" "small.exr"
+Sampler "independent" "integer pixelsamples" [ 4 ]
+WorldBegin
+LightSource "infinite" "rgb L" [ 1 1 1 ]
+Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+Shape "sphere" "float radius" [ 1 ]
+SCENE
+
+# --help and --version succeed and say what they are.
+"$bin" --help > "$tmp/help.txt" 2>&1
+check "--help exits 0" test $? -eq 0
+check "--help names render" grep -q "render" "$tmp/help.txt"
+"$bin" render --help > "$tmp/rhelp.txt" 2>&1
+check "render --help lists --spp" grep -q -- "--spp" "$tmp/rhelp.txt"
+"$bin" --version > "$tmp/version.txt" 2>&1
+check "--version exits 0" test $? -eq 0
+check "--version prints the version" grep -q "steradian [0-9]" "$tmp/version.txt"
+
+# Every output type by extension; the default output is the Film's filename.
+for ext in exr pfm png; do
+  "$bin" render "$tmp/small.pbrt" -o "$tmp/out.$ext" --quiet
+  check "render .$ext exits 0" test $? -eq 0
+  check "render .$ext writes the file" test -s "$tmp/out.$ext"
+done
+check "PFM header" bash -c "head -c 2 '$tmp/out.pfm' | grep -q PF"
+check "PNG signature" bash -c "head -c 4 '$tmp/out.png' | grep -q PNG"
+(cd "$tmp" && "$bin" render small.pbrt --quiet)
+check "default output is the Film filename" test -s "$tmp/small.exr"
+
+# The summary reports the required figures.
+"$bin" render "$tmp/small.pbrt" -o "$tmp/s.exr" > "$tmp/summary.txt" 2>&1
+for key in "wall time" "CPU time" "samples/pixel" "camera paths/s" "rays/s" "peak memory" "NaN/Inf"; do
+  check "summary has '$key'" grep -q "$key" "$tmp/summary.txt"
+done
+
+# --time stops early and says so (a budget far too small for 4096 spp).
+"$bin" render "$tmp/small.pbrt" -o "$tmp/t.exr" --spp 100000 --time 0.5 > "$tmp/time.txt" 2>&1
+check "--time exits 0" test $? -eq 0
+check "--time says it stopped" grep -q "time budget" "$tmp/time.txt"
+check "--time writes the image" test -s "$tmp/t.exr"
+
+# Errors: non-zero exit, file:line:col and what was expected.
+printf 'WorldBegin\nShape "sphere" "float radius" [ "big" ]\n' > "$tmp/bad.pbrt"
+"$bin" render "$tmp/bad.pbrt" -o "$tmp/bad.exr" > "$tmp/bad.txt" 2>&1
+check "bad scene exits non-zero" test $? -ne 0
+check "bad scene names file:line:col" grep -q "bad.pbrt:2:" "$tmp/bad.txt"
+"$bin" render "$tmp/missing.pbrt" > "$tmp/missing.txt" 2>&1
+check "missing scene exits non-zero" test $? -ne 0
+check "missing scene is named" grep -q "missing.pbrt" "$tmp/missing.txt"
+printf 'WorldBegin\nMaterial "coateddiffuse"\nShape "sphere"\n' > "$tmp/unsup.pbrt"
+"$bin" render "$tmp/unsup.pbrt" -o "$tmp/u.exr" > "$tmp/unsup.txt" 2>&1
+check "unsupported material exits non-zero" test $? -ne 0
+check "unsupported material says so" grep -q "not supported yet" "$tmp/unsup.txt"
+"$bin" render "$tmp/small.pbrt" -o "$tmp/out.xyz" --quiet > "$tmp/ext.txt" 2>&1
+check "unknown output extension exits non-zero" test $? -ne 0
+"$bin" render "$tmp/small.pbrt" --spp -3 > /dev/null 2>&1
+check "negative --spp is rejected" test $? -ne 0
+"$bin" frobnicate > /dev/null 2>&1
+check "unknown subcommand is rejected" test $? -ne 0
+
+echo "cli: $pass passed, $fail failed"
+test "$fail" -eq 0
