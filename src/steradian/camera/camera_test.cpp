@@ -115,8 +115,16 @@ TEST(PerspectiveCamera, PinholeProjectionOverTheWholeFilm) {
     // A pinhole camera: the ray through raster (px, py) has camera-space slopes
     // x/z = sx tan(fov/2), y/z = sy tan(fov/2), with (sx, sy) the screen-window point:
     // sx = x0 + (x1 - x0) px / W, sy = y1 - (y1 - y0) py / H (raster y runs down).
-    for (Vec2i res : {Vec2i{64, 48}, Vec2i{30, 90}}) {
+    // The third case has an asymmetric "screenwindow" (off-axis projection).
+    for (int variant = 0; variant < 3; ++variant) {
+        Vec2i res = variant == 0 ? Vec2i{64, 48} : (variant == 1 ? Vec2i{30, 90} : Vec2i{50, 40});
         Rig r = make_rig(res, {-2, 0.5, 7}, {3, -1, 2}, {0.2, 1, 0.1});
+        if (variant == 2) {
+            r.params.screen[0] = -0.5f;
+            r.params.screen[1] = 1.5f;
+            r.params.screen[2] = -1;
+            r.params.screen[3] = 0.25f;
+        }
         const double fov = 70;
         PerspectiveCamera cam(r.params, Float(fov));
         double t = std::tan(fov / 2 * kPiD / 180);
