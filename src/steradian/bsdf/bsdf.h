@@ -42,6 +42,22 @@ public:
         if (wo.z == 0) return SampledSpectrum(0);
         return std::visit([&](const auto& l) { return l.f(wo, wi, mode); }, m_lobe);
     }
+    /// f(wo, wi), the solid-angle pdf of sampling wi given wo, and |cos| of wi with the
+    /// shading normal: what next-event estimation with MIS needs, with one change of frame.
+    struct Eval {
+        SampledSpectrum f;
+        Float pdf_sa = 0;
+        Float abs_cos = 0;
+    };
+    Eval evaluate(Vec3 wo_w, Vec3 wi_w, TransportMode mode = TransportMode::Radiance) const {
+        Vec3 wo = m_frame.to_local(wo_w), wi = m_frame.to_local(wi_w);
+        if (wo.z == 0) return {};
+        return std::visit(
+            [&](const auto& l) {
+                return Eval{l.f(wo, wi, mode), l.pdf(wo, wi, mode), std::abs(wi.z)};
+            },
+            m_lobe);
+    }
     /// Samples wi given wo (world space); the returned wi is world space.
     std::optional<BsdfSample> sample(Vec3 wo_w, Float uc, Point2 u,
                                      TransportMode mode = TransportMode::Radiance) const {

@@ -120,6 +120,15 @@ public:
 private:
     // ---- options block --------------------------------------------------------------
     void build_options_block() {
+        for (const EntityDesc& cs : m_d.color_spaces)
+            if (cs.type != "srgb")
+                throw_error(cs.loc, "ColorSpace \"{}\" is not supported yet (only \"srgb\")", cs.type);
+        if (!m_d.accelerator.type.empty())
+            warning(m_d.accelerator.loc, fmt::format("Accelerator \"{}\" ignored: steradian always uses Embree",
+                                                     m_d.accelerator.type));
+        for (const Param& p : m_d.options.params())
+            if (p.name != "seed")
+                warning(p.loc, fmt::format("Option \"{}\" is ignored", p.name));
         build_film();
         build_camera();
         build_filter();
@@ -262,7 +271,10 @@ private:
             warning(s.loc, fmt::format("Sampler \"{}\" is rendered with our \"{}\" sampler", type,
                                        it->second));
         ss.type = it->second;
-        ss.seed = uint64_t(ps.get_int("seed", 0));
+        int option_seed = 0;
+        if (const Param* p = m_d.options.find("seed"))
+            option_seed = p->numbers.empty() ? 0 : int(p->numbers[0]);
+        ss.seed = uint64_t(ps.get_int("seed", option_seed));
         if (type == "stratified") {
             ss.x_samples = ps.get_int("xsamples", 4);
             ss.y_samples = ps.get_int("ysamples", 4);
@@ -598,6 +610,7 @@ private:
             throw_error(s.loc, "Shape \"bilinearmesh\": \"indices\" must hold 4 values per patch");
         auto n = ps.get_normals("N");
         auto uv = ps.get_point2s("uv");
+        ps.get_ints("faceIndices");
         check_alpha(s);
         ps.check_unused("Shape \"bilinearmesh\"");
         for (int i : idx)
@@ -654,7 +667,11 @@ private:
         if (s.area_light >= 0) {
             if (proto)
                 throw_error(s.loc, "area lights are not supported inside ObjectBegin (as in pbrt-v4)");
-            m_pending_area.push_back({index, s.area_light});
+            if (e.material < 0)
+                warning(s.loc, "area light on a shape with an \"interface\" material is ignored "
+                               "(as in pbrt-v4)");
+            else
+                m_pending_area.push_back({index, s.area_light});
         }
         m_s.shapes.push_back(std::move(e));
         if (proto)

@@ -95,7 +95,8 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
                 const Light& light = scene.lights[li];
                 auto ls = sample_li(light, ctx, u2, lambda);
                 if (ls && ls->pdf_sa > 0 && !ls->L.is_zero()) {
-                    SampledSpectrum f = bsdf->f(hit.wo, ls->wi) * absdot(ls->wi, hit.ns);
+                    Bsdf::Eval ev = bsdf->evaluate(hit.wo, ls->wi);
+                    SampledSpectrum f = ev.f * ev.abs_cos;
                     if (!f.is_zero()) {
                         Ray shadow;
                         if (ls->at_infinity)
@@ -107,14 +108,10 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
                         ++counters.rays;
                         if (!scene.occluded(shadow)) {
                             Float p_l = pmf * ls->pdf_sa;
-                            if (ls->delta) {
-                                L += beta * f * ls->L / p_l;
-                            } else {
-                                Float w = use_bsdf_hits
-                                              ? power_heuristic(p_l, bsdf->pdf(hit.wo, ls->wi))
-                                              : 1;
-                                L += beta * f * ls->L * (w / p_l);
-                            }
+                            Float w = (ls->delta || !use_bsdf_hits)
+                                          ? 1
+                                          : power_heuristic(p_l, ev.pdf_sa);
+                            L += beta * f * ls->L * (w / p_l);
                         }
                     }
                 }
