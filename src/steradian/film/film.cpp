@@ -44,18 +44,25 @@ std::array<std::array<Float, 3>, 3> srgb_from_xyz_white_balanced(Float sx, Float
     return r;
 }
 
-Film::Film(const FilmParams& p) : m_p(p), m_pixels(size_t(p.width()) * p.height()) {}
+Film::Film(const FilmParams& p) : m_p(p), m_pixels(size_t(p.width()) * p.height()) {
+    // The three matching functions interleaved, so a sample costs one index computation.
+    const auto &X = cie_x(), &Y = cie_y(), &Z = cie_z();
+    for (int l = int(kLambdaMin); l <= int(kLambdaMax); ++l)
+        m_cmf.push_back({X(Float(l)), Y(Float(l)), Z(Float(l))});
+    m_cmf.push_back({0, 0, 0});  // guard for interpolation at kLambdaMax
+}
 
 std::array<double, 3> Film::to_sensor(const SampledSpectrum& L,
                                       const SampledWavelengths& lambda) const {
-    const auto &X = cie_x(), &Y = cie_y(), &Z = cie_z();
     double xyz[3] = {0, 0, 0};
     for (int i = 0; i < kSpectrumSamples; ++i) {
-        if (lambda.pdf[i] == 0) continue;
+        if (lambda.pdf[i] == 0 || L[i] == 0) continue;
+        Float x = lambda.lambda[i] - kLambdaMin;
+        if (!(x >= 0 && x <= kLambdaMax - kLambdaMin)) continue;
+        int k = int(x);
+        Float t = x - Float(k);
         double l = double(L[i]) / lambda.pdf[i];
-        xyz[0] += X(lambda.lambda[i]) * l;
-        xyz[1] += Y(lambda.lambda[i]) * l;
-        xyz[2] += Z(lambda.lambda[i]) * l;
+        for (int c = 0; c < 3; ++c) xyz[c] += double(lerp(t, m_cmf[k][c], m_cmf[k + 1][c])) * l;
     }
     double k = double(m_p.imaging_ratio) / kSpectrumSamples;
     std::array<double, 3> r{xyz[0] * k, xyz[1] * k, xyz[2] * k};

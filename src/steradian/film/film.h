@@ -61,6 +61,7 @@ public:
 private:
     FilmParams m_p;
     std::vector<PixelSum> m_pixels;
+    std::vector<std::array<Float, 3>> m_cmf;  ///< xbar, ybar, zbar at each nm from kLambdaMin
 };
 
 }  // namespace sr

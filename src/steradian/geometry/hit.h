@@ -1,6 +1,7 @@
 #pragma once
 /// Ray-surface intersection records and robust ray spawning.
 #include <cstdint>
+#include <cstring>
 
 #include "steradian/core/math.h"
 
@@ -28,6 +29,26 @@ struct SurfaceHit {
     int light = -1;     ///< index into Scene::lights if the surface emits, else -1
 };
 
+/// The next float above / below v (for finite v; 0 and -0 step to the smallest denormal).
+inline Float next_float_up(Float v) {
+    if (std::isinf(v) && v > 0) return v;
+    if (v == -0.f) v = 0.f;
+    uint32_t u;
+    std::memcpy(&u, &v, sizeof u);
+    u = v >= 0 ? u + 1 : u - 1;
+    std::memcpy(&v, &u, sizeof u);
+    return v;
+}
+inline Float next_float_down(Float v) {
+    if (std::isinf(v) && v < 0) return v;
+    if (v == 0.f) v = -0.f;
+    uint32_t u;
+    std::memcpy(&u, &v, sizeof u);
+    u = v > 0 ? u - 1 : u + 1;
+    std::memcpy(&v, &u, sizeof u);
+    return v;
+}
+
 /// Offsets p along n far enough to escape the error box p_error, on the side of w
 /// (Pharr et al., "Physically Based Rendering", 4th ed., sec. 6.8.6).
 inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
@@ -37,9 +58,9 @@ inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
     Point3 po = p + offset;
     for (int i = 0; i < 3; ++i) {
         if (offset[i] > 0)
-            po[i] = std::nextafter(po[i], kInfinity);
+            po[i] = next_float_up(po[i]);
         else if (offset[i] < 0)
-            po[i] = std::nextafter(po[i], -kInfinity);
+            po[i] = next_float_down(po[i]);
     }
     return po;
 }

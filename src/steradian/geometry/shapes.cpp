@@ -56,19 +56,20 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
     Float len = length(ng);
     ng = len > 0 ? ng / len : Vec3(0, 0, 1);
     if (flip_normals) ng = -ng;
-    // uv and tangent
-    Point2 uv0{0, 0}, uv1{1, 0}, uv2{1, 1};
+    // uv and tangent. Without uv, pbrt-v4's default parameterisation (0,0), (1,0), (1,1)
+    // gives uv = (b1 + b2, b2) and dpdu = p1 - p0.
+    Vec3 dpdu;
     if (uv && !uv->empty()) {
-        uv0 = (*uv)[v[0]];
-        uv1 = (*uv)[v[1]];
-        uv2 = (*uv)[v[2]];
+        Point2 uv0 = (*uv)[v[0]], uv1 = (*uv)[v[1]], uv2 = (*uv)[v[2]];
+        h.uv = Point2(uv0.x * b0 + uv1.x * b1 + uv2.x * b2, uv0.y * b0 + uv1.y * b1 + uv2.y * b2);
+        Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+        Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
+        Float det = duv02.x * duv12.y - duv02.y * duv12.x;
+        dpdu = std::abs(det) > 1e-12f ? (dp02 * duv12.y - dp12 * duv02.y) * (1 / det) : Vec3(0, 0, 0);
+    } else {
+        h.uv = Point2(b1 + b2, b2);
+        dpdu = e1;
     }
-    h.uv = Point2(uv0.x * b0 + uv1.x * b1 + uv2.x * b2, uv0.y * b0 + uv1.y * b1 + uv2.y * b2);
-    Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
-    Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
-    Float det = duv02.x * duv12.y - duv02.y * duv12.x;
-    Vec3 dpdu{0, 0, 0};
-    if (std::abs(det) > 1e-12f) dpdu = (dp02 * duv12.y - dp12 * duv02.y) * (1 / det);
     if (length_squared(cross(dpdu, ng)) == 0) {
         Vec3 s, t;
         coordinate_system(ng, s, t);
