@@ -294,7 +294,8 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
         try {
             tilt_text = read_file_text(tilt_path.string(), "tilt file");
         } catch (const Error& e) {
-            throw_error(SourceLoc{name, tilt_line_no, 1}, "cannot read the tilt file {}: {}",
+            throw_error(SourceLoc{name, tilt_line_no, 1},
+                        "expected a readable tilt file {} (relative to the IES file): {}",
                         quoted(tilt_value), e.what());
         }
         const auto tilt_lines = split_lines(tilt_text);
