@@ -7,5 +7,4 @@ scripts/install-deps.sh
 cmake --preset release
 cmake --build --preset release --target steradian
 mkdir -p out
-build/release/steradian render scenes/cornell-box.pbrt -o out/cornell-box.exr
-build/release/steradian render scenes/cornell-box.pbrt -o out/cornell-box.png --quiet
+build/release/steradian render scenes/cornell-box.pbrt -o out/cornell-box.exr -o out/cornell-box.png

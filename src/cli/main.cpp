@@ -29,8 +29,8 @@ std::string human_rate(double r) {
     return fmt::format("{:.0f} ", r);
 }
 
-int run_render(const std::string& scene_path, std::string out, int spp, int threads, uint64_t seed,
-               double time_budget, bool quiet, float exposure) {
+int run_render(const std::string& scene_path, std::vector<std::string> outs, int spp, int threads,
+               uint64_t seed, double time_budget, bool quiet, float exposure) {
     double t_load0 = sr::process_cpu_seconds();
     auto wall0 = std::chrono::steady_clock::now();
     sr::SceneDesc desc = sr::parse_pbrt_file(scene_path);
@@ -40,7 +40,7 @@ int run_render(const std::string& scene_path, std::string out, int spp, int thre
     double load_wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     (void)t_load0;
-    if (out.empty()) out = scene.film.filename;
+    if (outs.empty()) outs.push_back(scene.film.filename);
     sr::Film film(scene.film);
     sr::RenderOptions ro;
     ro.spp = spp;
@@ -52,10 +52,14 @@ int run_render(const std::string& scene_path, std::string out, int spp, int thre
     sr::WriteOptions wo;
     wo.exposure = exposure;
     wo.half_float = scene.film.half_float;
-    sr::write_image(out, film.rgb_image(), wo);
+    sr::Image image = film.rgb_image();
+    for (const std::string& out : outs) {
+        sr::write_image(out, image, wo);
+        if (!quiet)
+            std::fprintf(stderr, "steradian: wrote %s (%dx%d)\n", out.c_str(), scene.film.width(),
+                         scene.film.height());
+    }
     if (!quiet) {
-        std::fprintf(stderr, "steradian: wrote %s (%dx%d)\n", out.c_str(), scene.film.width(),
-                     scene.film.height());
         std::fprintf(stderr, "  scene load      %.2f s\n", load_wall);
         std::fprintf(stderr, "  wall time       %.2f s\n", st.wall_seconds);
         std::fprintf(stderr, "  CPU time        %.2f s\n", st.cpu_seconds);
@@ -85,16 +89,19 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     auto* render = app.add_subcommand("render", "Render a pbrt-v4 scene to an image");
-    std::string scene, out;
+    std::string scene;
+    std::vector<std::string> outs;
     int spp = 0, threads = 0;
     uint64_t seed = 0;
     double time_budget = 0;
     bool quiet = false;
     float exposure = 0;
     render->add_option("scene", scene, "pbrt-v4 scene file")->required();
-    render->add_option("-o,--output", out,
-                       "output image (.exr linear float, .pfm, .png 8-bit sRGB); default: the "
-                       "Film's filename");
+    render->add_option("-o,--output", outs,
+                       "output image (.exr linear float, .pfm, .png 8-bit sRGB); may be given "
+                       "several times; default: the Film's filename")
+        ->allow_extra_args(false)
+        ->take_all();
     render->add_option("--spp", spp, "samples per pixel (default: the scene's Sampler)")
         ->check(CLI::PositiveNumber);
     render->add_option("--threads", threads, "worker threads (default: all cores)")
@@ -112,7 +119,7 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     try {
-        if (*render) return run_render(scene, out, spp, threads, seed, time_budget, quiet, exposure);
+        if (*render) return run_render(scene, outs, spp, threads, seed, time_budget, quiet, exposure);
     } catch (const sr::Error& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

@@ -86,3 +86,26 @@ AttributeBegin Translate 1 0 0.5 Scale 0.8 0.8 0.8 Translate 0 0.5 0 Shape "sphe
 
 }  // namespace
 }  // namespace sr::test
+
+namespace sr::test {
+namespace {
+
+// A crop window renders exactly the pixels of the full image it selects: every sample is a
+// function of (pixel, index, dimension, seed) alone.
+TEST(Equivalence, CropWindowIsARegionOfTheFullImage) {
+    std::string full = std::string(kHeader) + "Shape \"sphere\" \"float radius\" [ 1 ]\n";
+    std::string crop = full;
+    crop.replace(crop.find("\"string filename\""), 17,
+                 "\"float cropwindow\" [ 0.25 0.75 0.5 1 ] \"string filename\"");
+    Rendered a = render_string(full);
+    Rendered b = render_string(crop);
+    ASSERT_EQ(b.width, 16);
+    ASSERT_EQ(b.height, 12);
+    for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(b.rgb.at(x, y, c), a.rgb.at(x + 8, y + 12, c)) << x << "," << y;
+}
+
+}  // namespace
+}  // namespace sr::test

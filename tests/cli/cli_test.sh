@@ -45,6 +45,11 @@ check "PNG signature" bash -c "head -c 4 '$tmp/out.png' | grep -q PNG"
 (cd "$tmp" && "$bin" render small.pbrt --quiet)
 check "default output is the Film filename" test -s "$tmp/small.exr"
 
+# Several outputs from one render, options before the scene.
+"$bin" render -o "$tmp/m1.exr" -o "$tmp/m2.png" "$tmp/small.pbrt" --quiet
+check "two -o outputs exit 0" test $? -eq 0
+check "two -o outputs both written" test -s "$tmp/m1.exr" -a -s "$tmp/m2.png"
+
 # The summary reports the required figures.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/s.exr" > "$tmp/summary.txt" 2>&1
 for key in "wall time" "CPU time" "samples/pixel" "camera paths/s" "rays/s" "peak memory" "NaN/Inf"; do
