@@ -16,7 +16,7 @@ bool near(double a, double b) { return std::abs(a - b) <= 1e-6; }
 
 /// Line-addressed access to an EULUMDAT file (1-based line numbers).
 class LdtLines {
-public:
+  public:
     LdtLines(std::string_view text, std::string name)
         : m_lines(split_lines(text)), m_name(std::move(name)) {}
 
@@ -42,11 +42,12 @@ public:
         }
         double v = 0;
         switch (parse_number(buf, v)) {
-            case NumberStatus::Ok: return v;
+            case NumberStatus::Ok:
+                return v;
             case NumberStatus::NotFinite:
-                throw_error(loc(line), "expected {} as a finite number, found {}", what,
-                            quoted(s));
-            case NumberStatus::NotANumber: break;
+                throw_error(loc(line), "expected {} as a finite number, found {}", what, quoted(s));
+            case NumberStatus::NotANumber:
+                break;
         }
         throw_error(loc(line), "expected {} (one number on the line), found {}", what, quoted(s));
     }
@@ -69,19 +70,25 @@ public:
         return v;
     }
 
-private:
+  private:
     std::vector<std::string_view> m_lines;
     std::string m_name;
 };
 
 const char* symmetry_name(long isym) {
     switch (isym) {
-        case 0: return "no symmetry";
-        case 1: return "symmetry about the vertical axis";
-        case 2: return "symmetry about the C0-C180 plane";
-        case 3: return "symmetry about the C90-C270 plane";
-        case 4: return "symmetry about the C0-C180 and C90-C270 planes";
-        default: return "?";
+        case 0:
+            return "no symmetry";
+        case 1:
+            return "symmetry about the vertical axis";
+        case 2:
+            return "symmetry about the C0-C180 plane";
+        case 3:
+            return "symmetry about the C90-C270 plane";
+        case 4:
+            return "symmetry about the C0-C180 and C90-C270 planes";
+        default:
+            return "?";
     }
 }
 
@@ -110,8 +117,10 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
     const long ng = f.integer(6, "the number of gamma angles Ng", 1, kMaxCount);
     f.number(7, "the distance between gamma angles Dg");
     if ((isym == 2 && mc % 2 != 0) || ((isym == 3 || isym == 4) && mc % 4 != 0)) {
-        throw_error(f.loc(4), "expected the number of C planes Mc = {} to be divisible by {} "
-                    "for Isym {} ({})", mc, isym == 2 ? 2 : 4, isym, symmetry_name(isym));
+        throw_error(f.loc(4),
+                    "expected the number of C planes Mc = {} to be divisible by {} "
+                    "for Isym {} ({})",
+                    mc, isym == 2 ? 2 : 4, isym, symmetry_name(isym));
     }
     d.keywords["REPORT"] = std::string(f.text(8, "the measurement report number"));
     d.keywords["LUMINAIRE"] = std::string(f.text(9, "the luminaire name"));
@@ -127,8 +136,8 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
     static const char* kHeights[] = {"C0", "C90", "C180", "C270"};
     for (size_t k = 0; k < 4; ++k) {
         lum_height = std::max(
-            lum_height,
-            f.non_negative(18 + k, fmt::format("the luminous area height at {} (mm)", kHeights[k])));
+            lum_height, f.non_negative(18 + k, fmt::format("the luminous area height at {} (mm)",
+                                                           kHeights[k])));
     }
     d.length = lum_length / 1000.0;
     d.width = (lum_width > 0 ? lum_width : lum_length) / 1000.0;
@@ -145,8 +154,10 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
     d.light_output_ratio = f.non_negative(23, "the light output ratio (%)") / 100.0;
     const double cfli = f.number(24, "the conversion factor for luminous intensities");
     if (!(cfli > 0)) {
-        throw_error(f.loc(24), "expected the conversion factor for luminous intensities to be "
-                    "positive, found {}", quoted(f.text(24, "")));
+        throw_error(f.loc(24),
+                    "expected the conversion factor for luminous intensities to be "
+                    "positive, found {}",
+                    quoted(f.text(24, "")));
     }
     d.measurement_tilt_deg = f.number(25, "the tilt of the luminaire during measurement");
     const long n = f.integer(26, "the number of lamp sets n", 1, kMaxCount);
@@ -186,7 +197,8 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
                                  fmt::format("the wattage of lamp set {}", k + 1));
         if (k == 0) {
             if (s.count == 0) {
-                throw_error(f.loc(count_line), "expected a non-zero number of lamps in lamp set "
+                throw_error(f.loc(count_line),
+                            "expected a non-zero number of lamps in lamp set "
                             "1 (negative for absolute photometry), found 0");
             }
             if (!(s.total_flux_lm > 0)) {
@@ -218,7 +230,8 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
                         quoted(f.text(line, "")));
         }
         if (k > 0 && !(c > c_angles.back())) {
-            throw_error(f.loc(line), "expected the C angles to increase strictly, found {} after {}",
+            throw_error(f.loc(line),
+                        "expected the C angles to increase strictly, found {} after {}",
                         quoted(f.text(line, "")), c_angles.back());
         }
         if (c > 360 + 1e-6 || (c >= 360 - 1e-6 && k + 1 < mc)) {
@@ -274,8 +287,8 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
     for (size_t p = 1; p < stored_angle.size(); ++p) {
         if (!(stored_angle[p] > stored_angle[p - 1])) {
             throw_error(f.loc(stored_angle_line[p]),
-                        "expected the stored C planes to increase strictly for Isym {} ({})",
-                        isym, symmetry_name(isym));
+                        "expected the stored C planes to increase strictly for Isym {} ({})", isym,
+                        symmetry_name(isym));
         }
     }
 
@@ -286,9 +299,9 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
         for (long k = 0; k < ng; ++k) {
             const size_t line = i_first + p * static_cast<uint64_t>(ng) + static_cast<uint64_t>(k);
             double a = stored_angle[p] < 0 ? stored_angle[p] + 360 : stored_angle[p];
-            stored[p][static_cast<size_t>(k)] = f.non_negative(
-                line, fmt::format("the luminous intensity (cd/klm) at C {} gamma {}", a,
-                                  d.vertical_angles[static_cast<size_t>(k)]));
+            stored[p][static_cast<size_t>(k)] =
+                f.non_negative(line, fmt::format("the luminous intensity (cd/klm) at C {} gamma {}",
+                                                 a, d.vertical_angles[static_cast<size_t>(k)]));
         }
     }
     for (size_t line = end; line <= f.count(); ++line) {
@@ -309,8 +322,10 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
             if (x > 180) x = 360 - x;
         } else if (isym == 3) {
             if (x > 180) x -= 360;
-            if (x > 90) x = 180 - x;
-            else if (x < -90) x = -180 - x;
+            if (x > 90)
+                x = 180 - x;
+            else if (x < -90)
+                x = -180 - x;
         } else if (isym == 4) {
             if (x > 180) x = 360 - x;
             if (x > 90) x = 180 - x;

@@ -139,8 +139,8 @@ void expect_error(F&& f, const std::string& file, int line, const std::string& w
     } catch (const Error& e) {
         EXPECT_EQ(e.loc().file, file) << e.what();
         EXPECT_EQ(e.loc().line, line) << e.what();
-        EXPECT_NE(std::string(e.what()).find(fmt::format("{}:{}:", file, line)),
-                  std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(fmt::format("{}:{}:", file, line)), std::string::npos)
+            << e.what();
         EXPECT_NE(e.message().find("expected"), std::string::npos) << e.what();
         EXPECT_NE(e.message().find(what), std::string::npos) << e.what();
     }
@@ -319,8 +319,8 @@ TEST(Eulumdat, AbsolutePhotometryAndDecimalComma) {
     EXPECT_EQ(d.nominal_flux(), -1);
     EXPECT_DOUBLE_EQ(d.candela[0][0], 123.4);
 
-    std::string text = with_line(f.text(), 23, "72,5");             // LORL
-    text = with_line(text, f.i_line(0, 0), "100,5");               // first intensity
+    std::string text = with_line(f.text(), 23, "72,5");  // LORL
+    text = with_line(text, f.i_line(0, 0), "100,5");     // first intensity
     d = parse_eulumdat(text, "comma.ldt");
     EXPECT_DOUBLE_EQ(d.light_output_ratio, 0.725);
     EXPECT_DOUBLE_EQ(d.candela[0][0], 100.5 * 1.234);
@@ -398,8 +398,8 @@ TEST(EulumdatErrors, Truncated) {
     const LdtFile f = valid();
     const std::string t = f.text();
     const int total = f.i_line(static_cast<int>(f.planes.size()) - 1, f.ng - 1);
-    expect_error([&] { parse_eulumdat(first_lines(t, total - 1), "b.ldt"); }, "b.ldt",
-                 total - 1, fmt::format("expected {} lines", total));
+    expect_error([&] { parse_eulumdat(first_lines(t, total - 1), "b.ldt"); }, "b.ldt", total - 1,
+                 fmt::format("expected {} lines", total));
     expect_error([&] { parse_eulumdat(first_lines(t, 10), "b.ldt"); }, "b.ldt", 10,
                  "expected the file name on line 11");
     expect_error([&] { parse_eulumdat(first_lines(t, 30), "b.ldt"); }, "b.ldt", 30,
@@ -409,15 +409,16 @@ TEST(EulumdatErrors, Truncated) {
                  "unexpected end of file");
     // Counts smaller than the data: lines left over.
     // (Ng = 18 instead of 19: 1 + 13 lines of the 13 planes are left over.)
-    expect_error([&] { parse_eulumdat(with_line(t, 6, "18"), "b.ldt"); }, "b.ldt",
-                 total - 13, "expected the end of the file");
+    expect_error([&] { parse_eulumdat(with_line(t, 6, "18"), "b.ldt"); }, "b.ldt", total - 13,
+                 "expected the end of the file");
 }
 
 TEST(EulumdatErrors, BadValues) {
     const LdtFile f = valid();
     const std::string t = f.text();
     expect_error([&] { parse_eulumdat(with_line(t, f.i_line(2, 5), "-3"), "b.ldt"); }, "b.ldt",
-                 f.i_line(2, 5), "the luminous intensity (cd/klm) at C 30 gamma 50 to be "
+                 f.i_line(2, 5),
+                 "the luminous intensity (cd/klm) at C 30 gamma 50 to be "
                  "non-negative");
     expect_error([&] { parse_eulumdat(with_line(t, f.i_line(0, 0), "NaN"), "b.ldt"); }, "b.ldt",
                  f.i_line(0, 0), "as a finite number");
@@ -429,8 +430,8 @@ TEST(EulumdatErrors, BadValues) {
                  f.c_line(0), "expected the first C angle to be 0");
     expect_error([&] { parse_eulumdat(with_line(t, f.c_line(3), "15"), "b.ldt"); }, "b.ldt",
                  f.c_line(3), "expected the C angles to increase strictly");
-    expect_error([&] { parse_eulumdat(with_line(t, f.lamp_line() + 2, "0"), "b.ldt"); },
-                 "b.ldt", f.lamp_line() + 2, "positive total luminous flux for lamp set 1");
+    expect_error([&] { parse_eulumdat(with_line(t, f.lamp_line() + 2, "0"), "b.ldt"); }, "b.ldt",
+                 f.lamp_line() + 2, "positive total luminous flux for lamp set 1");
     expect_error([&] { parse_eulumdat(with_line(t, f.lamp_line(), "0"), "b.ldt"); }, "b.ldt",
                  f.lamp_line(), "a non-zero number of lamps");
     expect_error([&] { parse_eulumdat(with_line(t, 26, "0"), "b.ldt"); }, "b.ldt", 26,

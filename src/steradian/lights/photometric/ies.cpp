@@ -46,7 +46,7 @@ std::vector<Token> tokenize(const std::vector<std::string_view>& lines, size_t f
 
 /// Sequential reader of numeric tokens with located, explanatory errors.
 class TokenStream {
-public:
+  public:
     TokenStream(std::vector<Token> tokens, std::string file, int num_lines)
         : m_tokens(std::move(tokens)), m_file(std::move(file)), m_num_lines(num_lines) {}
 
@@ -74,11 +74,13 @@ public:
         if (tok) *tok = &t;
         double v = 0;
         switch (parse_number(t.text, v)) {
-            case NumberStatus::Ok: return v;
+            case NumberStatus::Ok:
+                return v;
             case NumberStatus::NotFinite:
                 throw_error(loc(t), "expected {} as a finite number, found {}", what,
                             quoted(t.text));
-            case NumberStatus::NotANumber: break;
+            case NumberStatus::NotANumber:
+                break;
         }
         throw_error(loc(t), "expected {} (a number), found {}", what, quoted(t.text));
     }
@@ -88,13 +90,13 @@ public:
         const Token* t = nullptr;
         double v = number(what, &t);
         if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
-            throw_error(loc(*t), "expected {} as an integer between {} and {}, found {}", what,
-                        lo, hi, quoted(t->text));
+            throw_error(loc(*t), "expected {} as an integer between {} and {}, found {}", what, lo,
+                        hi, quoted(t->text));
         }
         return static_cast<int>(v);
     }
 
-private:
+  private:
     std::vector<Token> m_tokens;
     size_t m_pos = 0;
     std::string m_file;
@@ -112,8 +114,10 @@ std::vector<double> read_angles(TokenStream& ts, size_t n, const char* which,
         const Token* t = nullptr;
         double a = ts.number(fmt::format("{} angle {} of {}", which, i + 1, n), &t);
         if (a < -360 || a > 360) {
-            throw_error(ts.loc(*t), "expected {} angle {} of {} in degrees between -360 and 360, "
-                        "found {}", which, i + 1, n, quoted(t->text));
+            throw_error(ts.loc(*t),
+                        "expected {} angle {} of {} in degrees between -360 and 360, "
+                        "found {}",
+                        which, i + 1, n, quoted(t->text));
         }
         if (!angles.empty() && !(a > angles.back())) {
             throw_error(ts.loc(*t),
@@ -142,14 +146,16 @@ TiltData read_tilt_block(TokenStream& ts, const std::string& mode) {
     if (count * 2 > static_cast<double>(ts.remaining())) {
         throw_error(ts.end_loc(),
                     "unexpected end of file: expected {} tilt angles and {} multiplying factors "
-                    "(only {} values remain)", count, count, ts.remaining());
+                    "(only {} values remain)",
+                    count, count, ts.remaining());
     }
     const auto n = static_cast<size_t>(count);
     for (size_t i = 0; i < n; ++i) {
         const Token* t = nullptr;
         double a = ts.number(fmt::format("tilt angle {} of {}", i + 1, n), &t);
         if (!tilt.angles.empty() && !(a > tilt.angles.back())) {
-            throw_error(ts.loc(*t), "expected the tilt angles to increase strictly, found {} after {}",
+            throw_error(ts.loc(*t),
+                        "expected the tilt angles to increase strictly, found {} after {}",
                         quoted(t->text), tilt.angles.back());
         }
         tilt.angles.push_back(a);
@@ -158,8 +164,10 @@ TiltData read_tilt_block(TokenStream& ts, const std::string& mode) {
         const Token* t = nullptr;
         double f = ts.number(fmt::format("tilt multiplying factor {} of {}", i + 1, n), &t);
         if (f < 0) {
-            throw_error(ts.loc(*t), "expected tilt multiplying factor {} of {} to be "
-                        "non-negative, found {}", i + 1, n, quoted(t->text));
+            throw_error(ts.loc(*t),
+                        "expected tilt multiplying factor {} of {} to be "
+                        "non-negative, found {}",
+                        i + 1, n, quoted(t->text));
         }
         tilt.factors.push_back(f);
     }
@@ -264,7 +272,8 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
                 continue;
             }
         }
-        if (first_numeric_line == 0 && all_numeric(line)) first_numeric_line = static_cast<int>(li + 1);
+        if (first_numeric_line == 0 && all_numeric(line))
+            first_numeric_line = static_cast<int>(li + 1);
         d.header_lines.emplace_back(line);
     }
     if (!found_tilt) {
@@ -317,7 +326,8 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
     if (!(lumens > 0) && !near(lumens, -1)) {
         throw_error(ts.loc(*t),
                     "expected the lumens per lamp to be positive, or -1 for absolute "
-                    "photometry, found {}", quoted(t->text));
+                    "photometry, found {}",
+                    quoted(t->text));
     }
     d.lamp_lumens = near(lumens, -1) ? -1.0 : lumens;
     d.candela_multiplier = ts.number("the candela multiplier", &t);
@@ -345,7 +355,7 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
         throw_error(ts.loc(*t), "expected the ballast factor to be positive, found {}",
                     quoted(t->text));
     }
-    const char* future_name = old_format            ? "the ballast-lamp photometric factor"
+    const char* future_name = old_format                  ? "the ballast-lamp photometric factor"
                               : d.version == "LM-63-2019" ? "the file generation type"
                                                           : "the future-use value";
     d.future_use = ts.number(future_name, &t);
@@ -375,20 +385,21 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
 
     const Token *v_first = nullptr, *v_last = nullptr, *h_first = nullptr, *h_last = nullptr;
     d.vertical_angles = read_angles(ts, static_cast<size_t>(nv), "vertical", &v_first, &v_last);
-    d.horizontal_angles =
-        read_angles(ts, static_cast<size_t>(nh), "horizontal", &h_first, &h_last);
+    d.horizontal_angles = read_angles(ts, static_cast<size_t>(nh), "horizontal", &h_first, &h_last);
     const auto& V = d.vertical_angles;
     const auto& H = d.horizontal_angles;
     if (d.type == PhotometricType::C) {
         if (!near(V.front(), 0) && !near(V.front(), 90)) {
             throw_error(ts.loc(*v_first),
                         "expected the first vertical angle of a Type C file to be 0 or 90, "
-                        "found {}", quoted(v_first->text));
+                        "found {}",
+                        quoted(v_first->text));
         }
         if (!near(V.back(), 90) && !near(V.back(), 180)) {
             throw_error(ts.loc(*v_last),
                         "expected the last vertical angle of a Type C file to be 90 or 180, "
-                        "found {}", quoted(v_last->text));
+                        "found {}",
+                        quoted(v_last->text));
         }
         if (V.size() < 2) {
             throw_error(ts.loc(*v_first),
@@ -407,34 +418,39 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
             if (!near(H.back(), 270)) {
                 throw_error(ts.loc(*h_last),
                             "expected the last horizontal angle to be 270 when the first is 90 "
-                            "(symmetry about the 90-270 plane), found {}", quoted(h_last->text));
+                            "(symmetry about the 90-270 plane), found {}",
+                            quoted(h_last->text));
             }
         } else {
             throw_error(ts.loc(*h_first),
                         "expected the first horizontal angle of a Type C file to be 0 (or 90 "
-                        "for symmetry about the 90-270 plane), found {}", quoted(h_first->text));
+                        "for symmetry about the 90-270 plane), found {}",
+                        quoted(h_first->text));
         }
     } else {
         const char* tn = d.type == PhotometricType::B ? "B" : "A";
         if (!near(V.front(), -90) && !near(V.front(), 0)) {
             throw_error(ts.loc(*v_first),
                         "expected the first vertical angle of a Type {} file to be -90 or 0, "
-                        "found {}", tn, quoted(v_first->text));
+                        "found {}",
+                        tn, quoted(v_first->text));
         }
         if (!near(V.back(), 90)) {
             throw_error(ts.loc(*v_last),
-                        "expected the last vertical angle of a Type {} file to be 90, found {}",
-                        tn, quoted(v_last->text));
+                        "expected the last vertical angle of a Type {} file to be 90, found {}", tn,
+                        quoted(v_last->text));
         }
         if (!near(H.front(), -90) && !near(H.front(), 0)) {
             throw_error(ts.loc(*h_first),
                         "expected the first horizontal angle of a Type {} file to be -90 or 0, "
-                        "found {}", tn, quoted(h_first->text));
+                        "found {}",
+                        tn, quoted(h_first->text));
         }
         if (!near(H.back(), 90)) {
             throw_error(ts.loc(*h_last),
                         "expected the last horizontal angle of a Type {} file to be 90, found "
-                        "{}", tn, quoted(h_last->text));
+                        "{}",
+                        tn, quoted(h_last->text));
         }
     }
 
@@ -460,8 +476,9 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
                     nh, nv, quoted(ts.peek().text));
     }
 
-    d.lamp_sets.push_back(LampSet{d.num_lamps, "", d.lamp_lumens < 0 ? -1.0 : d.lamp_lumens * d.num_lamps,
-                                  "", "", d.input_watts});
+    d.lamp_sets.push_back(LampSet{d.num_lamps, "",
+                                  d.lamp_lumens < 0 ? -1.0 : d.lamp_lumens * d.num_lamps, "", "",
+                                  d.input_watts});
     return d;
 }
 

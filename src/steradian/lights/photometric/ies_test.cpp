@@ -80,8 +80,8 @@ void expect_error(F&& f, const std::string& file, int line, const std::string& w
     } catch (const Error& e) {
         EXPECT_EQ(e.loc().file, file) << e.what();
         EXPECT_EQ(e.loc().line, line) << e.what();
-        EXPECT_NE(std::string(e.what()).find(fmt::format("{}:{}:", file, line)),
-                  std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(fmt::format("{}:{}:", file, line)), std::string::npos)
+            << e.what();
         EXPECT_NE(e.message().find("expected"), std::string::npos) << e.what();
         EXPECT_NE(e.message().find(what), std::string::npos) << e.what();
     }
@@ -142,8 +142,9 @@ TEST(Ies, EveryVersionHeaderAndTheBallastLampFactor) {
 
 TEST(Ies, KeywordsMoreAndRepeats) {
     IesFile f;
-    f.labels = {"[TEST] 123", "[LUMCAT] X-1", "[LUMINAIRE] Long description", "[MORE] continued",
-                "[OTHER] first", "[OTHER] second", "[_USERKEY] user text", "[ISSUEDATE]"};
+    f.labels = {"[TEST] 123",           "[LUMCAT] X-1",  "[LUMINAIRE] Long description",
+                "[MORE] continued",     "[OTHER] first", "[OTHER] second",
+                "[_USERKEY] user text", "[ISSUEDATE]"};
     PhotometricData d = parse_ies(f.text(), "k.ies");
     EXPECT_EQ(d.keywords.at("LUMINAIRE"), "Long description\ncontinued");
     EXPECT_EQ(d.keywords.at("OTHER"), "first\nsecond");
@@ -206,8 +207,7 @@ TEST(Ies, RelativePhotometryFluxMatchesLampLumens) {
     f.header = "";
     f.labels = {"OLD FILE"};
     f.future = 0.95;
-    EXPECT_NEAR(parse_ies(f.text(), "rel.ies").total_flux(), flux * 1.1 * 0.9 * 0.95,
-                1e-4 * flux);
+    EXPECT_NEAR(parse_ies(f.text(), "rel.ies").total_flux(), flux * 1.1 * 0.9 * 0.95, 1e-4 * flux);
 
     // Isotropic over the sphere: I = F / (4 pi), exact for a constant.
     IesFile iso;
@@ -410,10 +410,12 @@ TEST(Ies, NumbersMaySpanLinesAndUseCommas) {
     const std::string one_line =
         head + "1,1000,1,4,2,1,2,0,0,0,1,1,60,0,30,60,90,0,90,5,35,65,95,95,125,155,185\n";
     const std::string one_per_line =
-        head + "1\n1000\n1\n4\n2\n1\n2\n0\n0\n0\n1\n1\n60\n0\n30\n60\n90\n0\n90\n"
-               "5\n35\n65\n95\n95\n125\n155\n185\n";
-    const std::string ragged = head + "1 1000 1 4\n2 1\t2 0 0 0 1 1 60 0\n30, 60 , 90\n0\n"
-                                      "90 5 35 65 95 95\n125 155\n185\n\n\n";
+        head +
+        "1\n1000\n1\n4\n2\n1\n2\n0\n0\n0\n1\n1\n60\n0\n30\n60\n90\n0\n90\n"
+        "5\n35\n65\n95\n95\n125\n155\n185\n";
+    const std::string ragged = head +
+                               "1 1000 1 4\n2 1\t2 0 0 0 1 1 60 0\n30, 60 , 90\n0\n"
+                               "90 5 35 65 95 95\n125 155\n185\n\n\n";
     for (const auto& text : {one_line, one_per_line, ragged}) {
         PhotometricData d = parse_ies(text, "free.ies");
         EXPECT_EQ(d.vertical_angles, ref.vertical_angles);
@@ -441,9 +443,14 @@ TEST(Ies, LineEndingsAndByteOrderMark) {
 
 /// A valid 9-line file; `line` (1-based) replaced by `text` (or removed when text is null).
 std::string base(int line = 0, const char* text = nullptr) {
-    const char* lines[] = {"IESNA:LM-63-2002",       "[TEST] BAD-1", "[MANUFAC] Acme",
-                           "TILT=NONE",              "1 1000 1 3 1 1 2 0 0 0",
-                           "1 1 50",                 "0 45 90",      "0",
+    const char* lines[] = {"IESNA:LM-63-2002",
+                           "[TEST] BAD-1",
+                           "[MANUFAC] Acme",
+                           "TILT=NONE",
+                           "1 1000 1 3 1 1 2 0 0 0",
+                           "1 1 50",
+                           "0 45 90",
+                           "0",
                            "100 80 20"};
     std::string s;
     for (int i = 1; i <= 9; ++i) {
@@ -519,8 +526,7 @@ TEST(IesErrors, NonNumeric) {
                  "(a number), found 'abc'");
     expect_error([] { parse_ies(base(6, "1 1 50W"), "bad.ies"); }, "bad.ies", 6,
                  "expected the input watts (a number), found '50W'");
-    expect_error([] { parse_ies(base(8, "0\x01"), "bad.ies"); }, "bad.ies", 8,
-                 "found '0\\x01'");
+    expect_error([] { parse_ies(base(8, "0\x01"), "bad.ies"); }, "bad.ies", 8, "found '0\\x01'");
 }
 
 TEST(IesErrors, MissingOrBadTilt) {
@@ -528,12 +534,12 @@ TEST(IesErrors, MissingOrBadTilt) {
                  "missing TILT line: expected 'TILT=NONE'");
     expect_error([] { parse_ies(base(4, "TILT="), "bad.ies"); }, "bad.ies", 4,
                  "expected NONE, INCLUDE or a file name after TILT=");
-    expect_error([] { parse_ies(base(4, "TILT=INCLUDE\n7 2 0 90 1 1"), "bad.ies"); }, "bad.ies",
-                 5, "the lamp-to-luminaire geometry of the tilt data (1, 2 or 3)");
+    expect_error([] { parse_ies(base(4, "TILT=INCLUDE\n7 2 0 90 1 1"), "bad.ies"); }, "bad.ies", 5,
+                 "the lamp-to-luminaire geometry of the tilt data (1, 2 or 3)");
     expect_error([] { parse_ies(base(4, "TILT=INCLUDE\n1 3 0 90 45 1 1 1"), "bad.ies"); },
                  "bad.ies", 5, "tilt angles to increase strictly");
-    expect_error([] { parse_ies(base(4, "TILT=INCLUDE\n1 2 0 90 1 -1"), "bad.ies"); }, "bad.ies",
-                 5, "tilt multiplying factor 2 of 2 to be non-negative");
+    expect_error([] { parse_ies(base(4, "TILT=INCLUDE\n1 2 0 90 1 -1"), "bad.ies"); }, "bad.ies", 5,
+                 "tilt multiplying factor 2 of 2 to be non-negative");
     expect_error([] { parse_ies(base(4, "TILT=no_such_file.tlt"), "/nonexistent/bad.ies"); },
                  "/nonexistent/bad.ies", 4, "a readable tilt file 'no_such_file.tlt'");
     // Errors inside a tilt file name the tilt file and its line.

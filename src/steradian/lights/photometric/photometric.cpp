@@ -81,24 +81,36 @@ std::vector<double> mirrored(const std::vector<double>& a) {
 
 const char* to_string(PhotometricType t) {
     switch (t) {
-        case PhotometricType::C: return "C";
-        case PhotometricType::B: return "B";
-        case PhotometricType::A: return "A";
+        case PhotometricType::C:
+            return "C";
+        case PhotometricType::B:
+            return "B";
+        case PhotometricType::A:
+            return "A";
     }
     return "?";
 }
 
 const char* to_string(LuminousShape s) {
     switch (s) {
-        case LuminousShape::Point: return "point";
-        case LuminousShape::Rectangular: return "rectangular";
-        case LuminousShape::RectangularWithLuminousSides: return "rectangular with luminous sides";
-        case LuminousShape::Circular: return "circular";
-        case LuminousShape::Elliptical: return "elliptical";
-        case LuminousShape::VerticalCylinder: return "vertical cylinder";
-        case LuminousShape::VerticalEllipticalCylinder: return "vertical elliptical cylinder";
-        case LuminousShape::Sphere: return "sphere";
-        case LuminousShape::Ellipsoid: return "ellipsoidal spheroid";
+        case LuminousShape::Point:
+            return "point";
+        case LuminousShape::Rectangular:
+            return "rectangular";
+        case LuminousShape::RectangularWithLuminousSides:
+            return "rectangular with luminous sides";
+        case LuminousShape::Circular:
+            return "circular";
+        case LuminousShape::Elliptical:
+            return "elliptical";
+        case LuminousShape::VerticalCylinder:
+            return "vertical cylinder";
+        case LuminousShape::VerticalEllipticalCylinder:
+            return "vertical elliptical cylinder";
+        case LuminousShape::Sphere:
+            return "sphere";
+        case LuminousShape::Ellipsoid:
+            return "ellipsoidal spheroid";
         case LuminousShape::HorizontalCylinderAlong:
             return "horizontal cylinder along photometric horizontal";
         case LuminousShape::HorizontalEllipticalCylinderAlong:
@@ -115,7 +127,8 @@ const char* to_string(LuminousShape s) {
             return "vertical circle facing perpendicular to photometric horizontal";
         case LuminousShape::VerticalEllipsePerpendicular:
             return "vertical ellipse facing perpendicular to photometric horizontal";
-        case LuminousShape::Unknown: return "unknown";
+        case LuminousShape::Unknown:
+            return "unknown";
     }
     return "?";
 }
@@ -128,8 +141,8 @@ LuminousShape classify_luminous_shape(double w, double l, double h) {
     const int sw = sgn(w), sl = sgn(l), sh = sgn(h);
     using S = LuminousShape;
     if (sw == 0 && sl == 0 && sh == 0) return S::Point;
-    if (sw > 0 && sl > 0) return sh == 0 ? S::Rectangular
-                                         : (sh > 0 ? S::RectangularWithLuminousSides : S::Unknown);
+    if (sw > 0 && sl > 0)
+        return sh == 0 ? S::Rectangular : (sh > 0 ? S::RectangularWithLuminousSides : S::Unknown);
     if (sw < 0 && sl < 0) {
         if (sh == 0) return same(w, l) ? S::Circular : S::Elliptical;
         if (sh > 0) return same(w, l) ? S::VerticalCylinder : S::VerticalEllipticalCylinder;
@@ -178,8 +191,10 @@ double PhotometricData::table_intensity(double h, double v) const {
         } else if (near(first, 0) && near(last, 180)) {
             if (c > 180) c = 360 - c;
         } else if (near(first, 90) && near(last, 270)) {
-            if (c < 90) c = 180 - c;
-            else if (c > 270) c = 540 - c;
+            if (c < 90)
+                c = 180 - c;
+            else if (c > 270)
+                c = 540 - c;
         }
         if (near(first, 0) && last > 180 && c > last) {
             // No lateral symmetry with the last plane below 360: wrap to the 0 plane.
@@ -225,8 +240,7 @@ double PhotometricData::intensity(double gamma_deg, double c_deg) const {
         return table_intensity(c, g);
     }
     const double g = gamma_deg * kDeg, c = c_deg * kDeg;
-    return intensity_direction(std::sin(g) * std::cos(c), std::sin(g) * std::sin(c),
-                               -std::cos(g));
+    return intensity_direction(std::sin(g) * std::cos(c), std::sin(g) * std::sin(c), -std::cos(g));
 }
 
 double PhotometricData::intensity_direction(double x, double y, double z) const {

@@ -34,24 +34,24 @@ enum class PhotometricType { C = 1, B = 2, A = 3 };
 /// LM-63-2002 (Table 1). "Along" means the axis lies along the photometric horizontal
 /// (the 0-180 deg line, the length direction); "perpendicular" along the 90-270 line.
 enum class LuminousShape {
-    Point,                                    // W = L = H = 0
-    Rectangular,                              // W > 0, L > 0, H = 0
-    RectangularWithLuminousSides,             // W > 0, L > 0, H > 0
-    Circular,                                 // W = L < 0, H = 0 (diameter |W|)
-    Elliptical,                               // W, L < 0, W != L, H = 0
-    VerticalCylinder,                         // W = L < 0, H > 0
-    VerticalEllipticalCylinder,               // W, L < 0, W != L, H > 0
-    Sphere,                                   // W = L = H < 0
-    Ellipsoid,                                // W, L, H < 0, not all equal
-    HorizontalCylinderAlong,                  // W = H < 0, L > 0
-    HorizontalEllipticalCylinderAlong,        // W, H < 0, W != H, L > 0
-    HorizontalCylinderPerpendicular,          // L = H < 0, W > 0
-    HorizontalEllipticalCylinderPerpendicular,// L, H < 0, L != H, W > 0
-    VerticalCircleFacingHorizontal,           // W = H < 0, L = 0
-    VerticalEllipseFacingHorizontal,          // W, H < 0, W != H, L = 0
-    VerticalCirclePerpendicular,              // L = H < 0, W = 0
-    VerticalEllipsePerpendicular,             // L, H < 0, L != H, W = 0
-    Unknown,                                  // any other sign pattern
+    Point,                                      // W = L = H = 0
+    Rectangular,                                // W > 0, L > 0, H = 0
+    RectangularWithLuminousSides,               // W > 0, L > 0, H > 0
+    Circular,                                   // W = L < 0, H = 0 (diameter |W|)
+    Elliptical,                                 // W, L < 0, W != L, H = 0
+    VerticalCylinder,                           // W = L < 0, H > 0
+    VerticalEllipticalCylinder,                 // W, L < 0, W != L, H > 0
+    Sphere,                                     // W = L = H < 0
+    Ellipsoid,                                  // W, L, H < 0, not all equal
+    HorizontalCylinderAlong,                    // W = H < 0, L > 0
+    HorizontalEllipticalCylinderAlong,          // W, H < 0, W != H, L > 0
+    HorizontalCylinderPerpendicular,            // L = H < 0, W > 0
+    HorizontalEllipticalCylinderPerpendicular,  // L, H < 0, L != H, W > 0
+    VerticalCircleFacingHorizontal,             // W = H < 0, L = 0
+    VerticalEllipseFacingHorizontal,            // W, H < 0, W != H, L = 0
+    VerticalCirclePerpendicular,                // L = H < 0, W = 0
+    VerticalEllipsePerpendicular,               // L, H < 0, L != H, W = 0
+    Unknown,                                    // any other sign pattern
 };
 
 const char* to_string(PhotometricType t);
@@ -78,12 +78,12 @@ struct TiltData {
 
 /// One EULUMDAT lamp set (IES files fill one set from the lamp line).
 struct LampSet {
-    int count = 0;               // number of lamps; negative in EULUMDAT = absolute photometry
+    int count = 0;  // number of lamps; negative in EULUMDAT = absolute photometry
     std::string type;
-    double total_flux_lm = 0;    // all lamps of the set together
-    std::string colour;          // colour temperature / appearance as written
-    std::string cri;             // colour rendering group / index as written
-    double watts = 0;            // including ballast
+    double total_flux_lm = 0;  // all lamps of the set together
+    std::string colour;        // colour temperature / appearance as written
+    std::string cri;           // colour rendering group / index as written
+    double watts = 0;          // including ballast
 };
 
 struct PhotometricData {
@@ -125,8 +125,9 @@ struct PhotometricData {
     /// undefined, 1.00010 simulation, 1.abcde flags otherwise). NaN for EULUMDAT.
     double future_use = 1;
     int units_type = 2;  // LM-63: 1 feet, 2 metres (EULUMDAT: millimetres, stored as 2)
-    /// Luminous opening in metres (absolute values; the sign pattern is in `shape`). Width
-    /// is across the 90-270 line, length along the 0-180 line (photometric horizontal).
+    /// Luminous opening in metres (absolute values; the sign pattern is in `shape`): width
+    /// measured along the 90-270 deg direction (y), length along the 0-180 deg direction
+    /// (x, the photometric horizontal), height along z. Diameters for round shapes.
     double width = 0, length = 0, height = 0;
     LuminousShape shape = LuminousShape::Point;
     double input_watts = 0;

@@ -47,17 +47,18 @@ TEST(PhotometricFlux, IsotropicIsFourPiI) {
     const double I = 123.0;
     // Rotationally symmetric single plane, a quadrant table and a full table: all 4 pi I.
     auto iso = [&](double, double) { return I; };
-    for (const auto& d : {make_table(PhotometricType::C, range(0, 180, 10), {0}, iso),
-                          make_table(PhotometricType::C, range(0, 180, 7.5), range(0, 90, 22.5), iso),
-                          make_table(PhotometricType::C, range(0, 180, 5), range(0, 180, 30), iso),
-                          make_table(PhotometricType::C, range(0, 180, 5), range(90, 270, 45), iso),
-                          make_table(PhotometricType::C, range(0, 180, 5), range(0, 360, 15), iso),
-                          make_table(PhotometricType::C, range(0, 180, 5), range(0, 345, 15), iso)}) {
+    for (const auto& d :
+         {make_table(PhotometricType::C, range(0, 180, 10), {0}, iso),
+          make_table(PhotometricType::C, range(0, 180, 7.5), range(0, 90, 22.5), iso),
+          make_table(PhotometricType::C, range(0, 180, 5), range(0, 180, 30), iso),
+          make_table(PhotometricType::C, range(0, 180, 5), range(90, 270, 45), iso),
+          make_table(PhotometricType::C, range(0, 180, 5), range(0, 360, 15), iso),
+          make_table(PhotometricType::C, range(0, 180, 5), range(0, 345, 15), iso)}) {
         EXPECT_NEAR(d.total_flux(), 4 * kPi * I, 1e-4 * 4 * kPi * I);
     }
     // Lower and upper halves only: 2 pi I each.
-    EXPECT_NEAR(make_table(PhotometricType::C, range(0, 90, 5), {0}, iso).total_flux(),
-                2 * kPi * I, 1e-9 * I);
+    EXPECT_NEAR(make_table(PhotometricType::C, range(0, 90, 5), {0}, iso).total_flux(), 2 * kPi * I,
+                1e-9 * I);
     EXPECT_NEAR(make_table(PhotometricType::C, range(90, 180, 5), {0}, iso).total_flux(),
                 2 * kPi * I, 1e-9 * I);
 }
@@ -80,28 +81,29 @@ TEST(PhotometricFlux, TypeBAndTypeAHemispheres) {
     const double I = 10.0;
     auto iso = [&](double, double) { return I; };
     // Type A/B data cover the front hemisphere only.
-    EXPECT_NEAR(make_table(PhotometricType::B, range(-90, 90, 5), range(-90, 90, 5), iso)
-                    .total_flux(), 2 * kPi * I, 1e-9 * I);
-    EXPECT_NEAR(make_table(PhotometricType::B, range(0, 90, 5), range(0, 90, 10), iso)
-                    .total_flux(), 2 * kPi * I, 1e-9 * I);
-    EXPECT_NEAR(make_table(PhotometricType::A, range(-90, 90, 5), range(-90, 90, 5), iso)
-                    .total_flux(), 2 * kPi * I, 1e-9 * I);
-    EXPECT_NEAR(make_table(PhotometricType::A, range(-90, 90, 5), range(0, 90, 5), iso)
-                    .total_flux(), 2 * kPi * I, 1e-9 * I);
+    EXPECT_NEAR(
+        make_table(PhotometricType::B, range(-90, 90, 5), range(-90, 90, 5), iso).total_flux(),
+        2 * kPi * I, 1e-9 * I);
+    EXPECT_NEAR(make_table(PhotometricType::B, range(0, 90, 5), range(0, 90, 10), iso).total_flux(),
+                2 * kPi * I, 1e-9 * I);
+    EXPECT_NEAR(
+        make_table(PhotometricType::A, range(-90, 90, 5), range(-90, 90, 5), iso).total_flux(),
+        2 * kPi * I, 1e-9 * I);
+    EXPECT_NEAR(
+        make_table(PhotometricType::A, range(-90, 90, 5), range(0, 90, 5), iso).total_flux(),
+        2 * kPi * I, 1e-9 * I);
 
     // Cosine lobes about the front axis: pi I0.
     const double I0 = 500.0;
     // Type B: nadir is (H, V) = (0, 0); cos of the angle to nadir = cos H cos V.
-    auto lobe_b = make_table(PhotometricType::B, range(-90, 90, 1), range(-90, 90, 1),
-                             [&](double hh, double vv) {
-                                 return I0 * std::cos(hh * kDeg) * std::cos(vv * kDeg);
-                             });
+    auto lobe_b = make_table(
+        PhotometricType::B, range(-90, 90, 1), range(-90, 90, 1),
+        [&](double hh, double vv) { return I0 * std::cos(hh * kDeg) * std::cos(vv * kDeg); });
     EXPECT_NEAR(lobe_b.total_flux(), kPi * I0, 1e-4 * kPi * I0);
     // Type A: photometric horizontal +x is (0, 0); cos of the angle to +x = cos V cos H.
-    auto lobe_a = make_table(PhotometricType::A, range(0, 90, 1), range(0, 90, 1),
-                             [&](double hh, double vv) {
-                                 return I0 * std::cos(hh * kDeg) * std::cos(vv * kDeg);
-                             });
+    auto lobe_a = make_table(
+        PhotometricType::A, range(0, 90, 1), range(0, 90, 1),
+        [&](double hh, double vv) { return I0 * std::cos(hh * kDeg) * std::cos(vv * kDeg); });
     EXPECT_NEAR(lobe_a.total_flux(), kPi * I0, 1e-4 * kPi * I0);
 }
 
@@ -156,9 +158,8 @@ TEST(PhotometricIntensity, GridPointsAndBilinearMidpoints) {
     // Midpoints in gamma, in C, and cell centres.
     EXPECT_DOUBLE_EQ(d.intensity(15, 45), 0.5 * (d.candela[1][0] + d.candela[1][1]));
     EXPECT_DOUBLE_EQ(d.intensity(30, 67.5), 0.5 * (d.candela[1][1] + d.candela[2][1]));
-    EXPECT_DOUBLE_EQ(d.intensity(60, 135),
-                     0.25 * (d.candela[2][1] + d.candela[2][2] + d.candela[3][1] +
-                             d.candela[3][2]));
+    EXPECT_DOUBLE_EQ(d.intensity(60, 135), 0.25 * (d.candela[2][1] + d.candela[2][2] +
+                                                   d.candela[3][1] + d.candela[3][2]));
     // Bilinear at a quarter point.
     double a = 0.75 * d.candela[0][2] + 0.25 * d.candela[0][3];
     double b = 0.75 * d.candela[1][2] + 0.25 * d.candela[1][3];
@@ -206,8 +207,8 @@ TEST(PhotometricIntensity, BilateralSymmetryAboutC90C270) {
     for (double c : {0.0, 20.0, 60.0, 90.0, 100.0, 300.0}) {
         EXPECT_NEAR(d.intensity(70, 180 - c), d.intensity(70, c), 1e-9);
     }
-    EXPECT_DOUBLE_EQ(d.intensity(70, 0), d.candela[3][7]);   // C0 mirrors C180
-    EXPECT_DOUBLE_EQ(d.intensity(70, 300), d.candela[5][7]); // C300 mirrors C240
+    EXPECT_DOUBLE_EQ(d.intensity(70, 0), d.candela[3][7]);    // C0 mirrors C180
+    EXPECT_DOUBLE_EQ(d.intensity(70, 300), d.candela[5][7]);  // C300 mirrors C240
     EXPECT_NE(d.intensity(70, 30), d.intensity(70, -30));
 }
 
@@ -259,22 +260,22 @@ TEST(PhotometricIntensity, TypeBMapping) {
     // polar axis (H = +-90) it does not depend on V, as a function on the sphere must not.
     auto at = [](double h, double v) { return 1000 + 10 * h + v * std::cos(h * kDeg); };
     auto d = make_table(PhotometricType::B, range(-90, 90, 15), range(-90, 90, 15), at);
-    EXPECT_NEAR(d.intensity(0, 0), at(0, 0), 1e-9);         // nadir = photometric zero
-    EXPECT_NEAR(d.intensity(90, 0), at(0, 90), 1e-9);       // +x = photometric horizontal
-    EXPECT_NEAR(d.intensity(90, 270), at(90, 0), 1e-9);     // -y: H = +90 (clockwise)
-    EXPECT_NEAR(d.intensity(90, 90), at(-90, 0), 1e-9);     // +y: H = -90
-    EXPECT_NEAR(d.intensity(45, 180), at(0, -45), 1e-9);    // towards -x: V = -45
-    EXPECT_EQ(d.intensity(180, 0), 0);                      // zenith: behind the floodlight
+    EXPECT_NEAR(d.intensity(0, 0), at(0, 0), 1e-9);       // nadir = photometric zero
+    EXPECT_NEAR(d.intensity(90, 0), at(0, 90), 1e-9);     // +x = photometric horizontal
+    EXPECT_NEAR(d.intensity(90, 270), at(90, 0), 1e-9);   // -y: H = +90 (clockwise)
+    EXPECT_NEAR(d.intensity(90, 90), at(-90, 0), 1e-9);   // +y: H = -90
+    EXPECT_NEAR(d.intensity(45, 180), at(0, -45), 1e-9);  // towards -x: V = -45
+    EXPECT_EQ(d.intensity(180, 0), 0);                    // zenith: behind the floodlight
     // A general grid point: d(H, V) = (cos H sin V, -sin H, -cos H cos V).
     const double h = 30 * kDeg, v = 45 * kDeg;
-    EXPECT_NEAR(d.intensity_direction(std::cos(h) * std::sin(v), -std::sin(h),
-                                      -std::cos(h) * std::cos(v)),
-                at(30, 45), 1e-9);
+    EXPECT_NEAR(
+        d.intensity_direction(std::cos(h) * std::sin(v), -std::sin(h), -std::cos(h) * std::cos(v)),
+        at(30, 45), 1e-9);
     // Symmetric ranges starting at 0 mirror H and V.
     auto s = make_table(PhotometricType::B, range(0, 90, 15), range(0, 90, 15), at);
-    EXPECT_NEAR(s.intensity_direction(std::cos(h) * std::sin(-v), std::sin(h),
-                                      -std::cos(h) * std::cos(v)),
-                at(30, 45), 1e-9);
+    EXPECT_NEAR(
+        s.intensity_direction(std::cos(h) * std::sin(-v), std::sin(h), -std::cos(h) * std::cos(v)),
+        at(30, 45), 1e-9);
 }
 
 TEST(PhotometricIntensity, TypeAMapping) {
@@ -287,7 +288,7 @@ TEST(PhotometricIntensity, TypeAMapping) {
     EXPECT_NEAR(d.intensity(90, 270), at(90, 0), 1e-9);  // -y: H = +90 (clockwise)
     EXPECT_NEAR(d.intensity(90, 90), at(-90, 0), 1e-9);  // +y: H = -90
     EXPECT_NEAR(d.intensity(60, 30), at(-30, -30), 1e-9);
-    EXPECT_EQ(d.intensity(90, 180), 0);                  // -x: behind
+    EXPECT_EQ(d.intensity(90, 180), 0);  // -x: behind
 }
 
 TEST(PhotometricIntensity, MalformedTablesDoNotCrash) {
