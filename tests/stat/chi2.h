@@ -32,7 +32,7 @@ struct SphereChi2Config {
     int theta_res = 11;  ///< cells in theta over [0, pi] (odd)
     int phi_res = 21;    ///< cells in phi over [-pi, pi] (odd)
     int64_t sample_count = 1'000'000;
-    double integration_tol = 1e-8;  ///< absolute error goal of each cell's pdf integral
+    double integration_tol = 1e-7;  ///< absolute error goal of each cell's pdf integral
     double min_expected = 5;   ///< pooling threshold of chi2_test
     uint64_t seed = 1;         ///< PCG32 stream of the sampler's random numbers
 };
@@ -122,7 +122,7 @@ double sphere_cell_integral(Pdf& pdf, double t0, double t1, double p0, double p1
     auto piece = [&](double a, double b) {
         double whole = (b - a) * (p1 - p0);
         double estimate = simpson_2d(integrand, a, b, p0, p1, 4, 4);
-        return adaptive_cubature(integrand, a, b, p0, p1, whole, estimate, abs_tol, 1e-6,
+        return adaptive_cubature(integrand, a, b, p0, p1, whole, estimate, abs_tol, 1e-5,
                                  kCubatureMaxDepth);
     };
     // A cell straddling the horizon is integrated as two pieces whose nodes stay strictly on

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 
 #include "stat/lobe_util.h"
 #include "steradian/bsdf/fresnel.h"
@@ -81,6 +82,33 @@ TEST(Fresnel, ConductorWithoutAbsorptionIsADielectric) {
             EXPECT_NEAR(fr_complex(Float(c), Float(eta), 0), fr_dielectric(Float(c), Float(eta)),
                         2e-6)
                 << eta << " " << c;
+        }
+    }
+}
+
+/// The conductor Fresnel equations in complex double arithmetic (Born & Wolf Sec. 14.2),
+/// the direct transcription that fr_complex rewrites in real float arithmetic.
+double fr_complex_reference(double cos_i, double n, double k) {
+    using C = std::complex<double>;
+    C eta(n, k);
+    double s2 = 1 - cos_i * cos_i;
+    C cos_t = std::sqrt(1.0 - s2 / (eta * eta));
+    C r_s = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    C r_p = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    return 0.5 * (std::norm(r_s) + std::norm(r_p));
+}
+
+TEST(Fresnel, ConductorMatchesComplexReference) {
+    // Metals (n < 1, large k), absorbing dielectrics, and n < 1 without absorption (total
+    // reflection past the critical angle).
+    const double nks[][2] = {{0.13, 4.1}, {0.05, 4.0}, {1.4, 1.9}, {2.9, 3.0},
+                             {1.5, 0.01}, {0.7, 0.0}, {1.0, 1e3}, {3.5, 0.5}};
+    for (const auto& nk : nks) {
+        for (double c = 0; c <= 1.0001; c += 0.05) {
+            double cc = std::min(c, 1.0);
+            EXPECT_NEAR(fr_complex(Float(cc), Float(nk[0]), Float(nk[1])),
+                        fr_complex_reference(cc, nk[0], nk[1]), 3e-6)
+                << nk[0] << " " << nk[1] << " " << cc;
         }
     }
 }

@@ -49,6 +49,13 @@ inline double rel_diff(double a, double b) {
     return m == 0 ? 0 : std::abs(a - b) / m;
 }
 
+/// |a - b| <= rel max(|a|, |b|) + abs: a relative comparison with a floor for values that are
+/// tiny compared with the function's scale, where float rounding of ill-conditioned inputs
+/// (grazing microfacet cosines) dominates.
+inline bool near_rel(double a, double b, double rel, double abs) {
+    return std::abs(a - b) <= rel * std::max(std::abs(a), std::abs(b)) + abs;
+}
+
 template <typename L>
 ConsistencyResult check_sample_consistency(const L& lobe, Vec3 wo, TransportMode mode, int n,
                                            uint64_t seed = 3) {

@@ -6,7 +6,11 @@
 #include <variant>
 
 #include "steradian/bsdf/bxdf_common.h"
+#include "steradian/bsdf/conductor.h"
+#include "steradian/bsdf/dielectric.h"
+#include "steradian/bsdf/diffuse_transmission.h"
 #include "steradian/bsdf/lambert.h"
+#include "steradian/bsdf/thin_dielectric.h"
 
 namespace sr {
 
@@ -18,8 +22,13 @@ concept Lobe = requires(const L& l, Vec3 w, Float uc, Point2 u, TransportMode m)
     { l.flags() } -> std::same_as<uint8_t>;
 };
 
-using LobeVariant = std::variant<LambertLobe>;
+using LobeVariant = std::variant<LambertLobe, DielectricLobe, ThinDielectricLobe, ConductorLobe,
+                                 DiffuseTransmissionLobe>;
 static_assert(Lobe<LambertLobe>);
+static_assert(Lobe<DielectricLobe>);
+static_assert(Lobe<ThinDielectricLobe>);
+static_assert(Lobe<ConductorLobe>);
+static_assert(Lobe<DiffuseTransmissionLobe>);
 
 class Bsdf {
 public:
