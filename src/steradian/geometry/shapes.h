@@ -34,6 +34,18 @@ struct TriangleMesh {
     Float triangle_area(size_t i) const;
     /// Uniformly samples a point on triangle i by area; pdf_area = 1 / area.
     ShapeSample sample_triangle(size_t i, Point2 u) const;
+    /// Solid angle (sr) that triangle i subtends at ref (Van Oosterom & Strackee 1983).
+    Float solid_angle(size_t i, Point3 ref) const;
+    /// Samples triangle i as seen from ref: uniformly in solid angle when the triangle
+    /// subtends between kMinSphericalSampleArea and kMaxSphericalSampleArea sr (Arvo 1995,
+    /// "Stratified Sampling of Spherical Triangles"), else uniformly by area. pdf: pdf_sa.
+    ShapeSample sample_triangle_from(size_t i, Point3 ref, Point2 u) const;
+    /// pdf_sa of sample_triangle_from choosing point p (normal n) on triangle i from ref.
+    Float pdf_triangle_from(size_t i, Point3 ref, Point3 p_light, Normal3 n_light) const;
+    /// Below this solid angle, area sampling is as good and cheaper; above the upper bound
+    /// (near a hemisphere) spherical sampling loses precision (pbrt-v4 uses the same bounds).
+    static constexpr Float kMinSphericalSampleArea = 3e-4f;
+    static constexpr Float kMaxSphericalSampleArea = 6.22f;
     /// Fills the hit for triangle i at barycentrics (b1, b2) (Embree's u, v).
     void fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const;
 };

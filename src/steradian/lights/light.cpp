@@ -106,8 +106,7 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
                                                          const SampledWavelengths& lambda) const {
     ShapeSample ss;
     if (mesh) {
-        ss = mesh->sample_triangle(prim, u);
-        ss.pdf = area_to_solid_angle_pdf(ss.pdf, ctx.p, ss.p, ss.n);
+        ss = mesh->sample_triangle_from(prim, ctx.p, u);
     } else if (sphere) {
         ss = sphere->sample_from(ctx.p, u);
     } else {
@@ -132,6 +131,7 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
 Float DiffuseAreaLight::pdf_li_point(const LightSampleContext& ctx, Point3 p_light,
                                      Normal3 n_light) const {
     if (sphere) return sphere->pdf_from(ctx.p, p_light, n_light);
+    if (mesh) return mesh->pdf_triangle_from(prim, ctx.p, p_light, n_light);
     return area_to_solid_angle_pdf(1 / area, ctx.p, p_light, n_light);
 }
 
