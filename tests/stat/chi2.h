@@ -33,8 +33,8 @@ struct SphereChi2Config {
     int phi_res = 21;    ///< cells in phi over [-pi, pi] (odd)
     int64_t sample_count = 1'000'000;
     double integration_tol = 1e-7;  ///< absolute error goal of each cell's pdf integral
-    double min_expected = 5;   ///< pooling threshold of chi2_test
-    uint64_t seed = 1;         ///< PCG32 stream of the sampler's random numbers
+    double min_expected = 5;        ///< pooling threshold of chi2_test
+    uint64_t seed = 1;              ///< PCG32 stream of the sampler's random numbers
 };
 
 struct SphereChi2Outcome {
@@ -112,8 +112,7 @@ double adaptive_cubature(G& g, double t0, double t1, double p0, double p1, doubl
 /// Integral of pdf(w) over the cell [t0, t1] x [p0, p1] of (theta, phi), in steradians, to
 /// an absolute accuracy of about abs_tol.
 template <typename Pdf>
-double sphere_cell_integral(Pdf& pdf, double t0, double t1, double p0, double p1,
-                            double abs_tol) {
+double sphere_cell_integral(Pdf& pdf, double t0, double t1, double p0, double p1, double abs_tol) {
     auto integrand = [&](double theta, double phi) {
         double st = std::sin(theta), ct = std::cos(theta);
         Vec3 w(Float(st * std::cos(phi)), Float(st * std::sin(phi)), Float(ct));
@@ -160,10 +159,9 @@ SphereChi2Outcome sphere_chi2(Sample&& sample, Pdf&& pdf, const SphereChi2Config
 
     for (int i = 0; i < nt; ++i) {
         for (int j = 0; j < np; ++j) {
-            double mass = sphere_cell_integral(pdf, i * dt, (i + 1) * dt,
-                                               -3.141592653589793 + j * dp,
-                                               -3.141592653589793 + (j + 1) * dp,
-                                               cfg.integration_tol);
+            double mass =
+                sphere_cell_integral(pdf, i * dt, (i + 1) * dt, -3.141592653589793 + j * dp,
+                                     -3.141592653589793 + (j + 1) * dp, cfg.integration_tol);
             out.pdf_mass += mass;
             out.expected[std::size_t(i * np + j)] = mass * double(cfg.sample_count);
         }
@@ -175,8 +173,7 @@ SphereChi2Outcome sphere_chi2(Sample&& sample, Pdf&& pdf, const SphereChi2Config
     // non-zero E).
     constexpr double kMassTolerance = 2e-5;
     double missing = 1 - out.pdf_mass;
-    out.expected_failures =
-        (missing > kMassTolerance ? missing : 0.0) * double(cfg.sample_count);
+    out.expected_failures = (missing > kMassTolerance ? missing : 0.0) * double(cfg.sample_count);
     std::vector<double> obs = out.observed, exp = out.expected;
     obs.push_back(double(out.failures));
     exp.push_back(std::max(out.expected_failures, 1e-6));

@@ -2,13 +2,14 @@
 // incident directions from normal to grazing and from below), consistency of sample() with
 // f() and pdf(), Helmholtz reciprocity, directional albedo <= 1, and the smooth mirror's
 // weight equal to the conductor Fresnel reflectance.
+#include "steradian/bsdf/conductor.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
 #include "stat/chi2.h"
 #include "stat/lobe_util.h"
-#include "steradian/bsdf/conductor.h"
 #include "steradian/bsdf/fresnel.h"
 #include "steradian/sampling/stats.h"
 #include "steradian/sampling/warp.h"
@@ -42,10 +43,10 @@ TEST(Conductor, SamplingMatchesPdfChi2) {
             Vec3 wo = direction_deg(t);
             testing::SphereChi2Config cfg;
             cfg.seed = uint64_t(t * 1000 + mf.alpha_x * 100 + mf.alpha_y * 10);
-            testing::SphereChi2Outcome r = testing::lobe_chi2(lobe, wo, TransportMode::Radiance,
-                                                              cfg);
-            std::printf("[chi2] conductor alpha (%g, %g) theta_o %g: %s\n", mf.alpha_x,
-                        mf.alpha_y, t, r.summary().c_str());
+            testing::SphereChi2Outcome r =
+                testing::lobe_chi2(lobe, wo, TransportMode::Radiance, cfg);
+            std::printf("[chi2] conductor alpha (%g, %g) theta_o %g: %s\n", mf.alpha_x, mf.alpha_y,
+                        t, r.summary().c_str());
             p_min = std::min(p_min, r.chi2.p_value);
             p_max = std::max(p_max, r.chi2.p_value);
             EXPECT_GT(r.chi2.p_value, alpha)
@@ -65,10 +66,10 @@ TEST(Conductor, SampleAgreesWithFAndPdf) {
             testing::ConsistencyResult c =
                 testing::check_sample_consistency(lobe, wo, TransportMode::Radiance, 20000);
             EXPECT_GT(c.samples, 5000);
-            EXPECT_LT(c.max_rel_f, 1e-3) << mf.alpha_x << " " << mf.alpha_y << " " << t << ": "
-                                         << c.worst;
-            EXPECT_LT(c.max_rel_pdf, 1e-3) << mf.alpha_x << " " << mf.alpha_y << " " << t
-                                           << ": " << c.worst;
+            EXPECT_LT(c.max_rel_f, 1e-3)
+                << mf.alpha_x << " " << mf.alpha_y << " " << t << ": " << c.worst;
+            EXPECT_LT(c.max_rel_pdf, 1e-3)
+                << mf.alpha_x << " " << mf.alpha_y << " " << t << ": " << c.worst;
         }
     }
 }

@@ -4,13 +4,14 @@
 // reflection part and the eta^2 relation of the refraction part (Veach 1997, Ch. 5), energy
 // (smooth: albedo exactly 1; rough single scattering: <= 1), and the smooth interface's
 // Fresnel split, Snell directions, total internal reflection and eta = 1 pass-through.
+#include "steradian/bsdf/dielectric.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
 #include "stat/chi2.h"
 #include "stat/lobe_util.h"
-#include "steradian/bsdf/dielectric.h"
 #include "steradian/bsdf/fresnel.h"
 #include "steradian/sampling/stats.h"
 #include "steradian/sampling/warp.h"
@@ -45,10 +46,9 @@ TEST(Dielectric, RoughSamplingMatchesPdfChi2) {
                             mf.alpha_x, mf.alpha_y, t, r.summary().c_str());
                 p_min = std::min(p_min, r.chi2.p_value);
                 p_max = std::max(p_max, r.chi2.p_value);
-                EXPECT_GT(r.chi2.p_value, alpha)
-                    << "eta " << eta << ", alpha (" << mf.alpha_x << ", " << mf.alpha_y
-                    << "), theta_o " << t << "\n"
-                    << r.tables();
+                EXPECT_GT(r.chi2.p_value, alpha) << "eta " << eta << ", alpha (" << mf.alpha_x
+                                                 << ", " << mf.alpha_y << "), theta_o " << t << "\n"
+                                                 << r.tables();
             }
         }
     }
@@ -62,13 +62,13 @@ TEST(Dielectric, RoughSampleAgreesWithFAndPdf) {
             DielectricLobe lobe{eta, mf};
             for (double t : kThetas) {
                 for (TransportMode mode : kModes) {
-                    testing::ConsistencyResult c = testing::check_sample_consistency(
-                        lobe, direction_deg(t), mode, 20000);
+                    testing::ConsistencyResult c =
+                        testing::check_sample_consistency(lobe, direction_deg(t), mode, 20000);
                     EXPECT_GT(c.samples, 5000);
-                    EXPECT_LT(c.max_rel_f, 1e-3) << eta << " " << mf.alpha_x << " "
-                                                 << mf.alpha_y << " " << t << ": " << c.worst;
-                    EXPECT_LT(c.max_rel_pdf, 1e-3) << eta << " " << mf.alpha_x << " "
-                                                   << mf.alpha_y << " " << t << ": " << c.worst;
+                    EXPECT_LT(c.max_rel_f, 1e-3) << eta << " " << mf.alpha_x << " " << mf.alpha_y
+                                                 << " " << t << ": " << c.worst;
+                    EXPECT_LT(c.max_rel_pdf, 1e-3) << eta << " " << mf.alpha_x << " " << mf.alpha_y
+                                                   << " " << t << ": " << c.worst;
                 }
             }
         }
@@ -98,8 +98,7 @@ TEST(Dielectric, Reciprocity) {
                 }
                 // BTDF: f(wo, wi) / n_o^2 = f(wi, wo) / n_i^2 (radiance form), and the
                 // Importance-mode BSDF is the adjoint f*(wo, wi) = f(wi, wo).
-                EXPECT_TRUE(
-                    testing::near_rel(f_oi / sqr(n(wo)), f_io / sqr(n(wi)), 1e-4, 1e-7))
+                EXPECT_TRUE(testing::near_rel(f_oi / sqr(n(wo)), f_io / sqr(n(wi)), 1e-4, 1e-7))
                     << f_oi << " " << f_io;
                 Float f_imp = lobe.f(wo, wi, TransportMode::Importance)[0];
                 EXPECT_TRUE(testing::near_rel(f_imp, f_io, 1e-4, 1e-7)) << f_imp << " " << f_io;
@@ -117,8 +116,8 @@ TEST(Dielectric, SmoothIsLossless) {
         DielectricLobe lobe{eta, {}};
         for (double t : {0.0, 30.0, 60.0, 85.0, 100.0, 135.0, 170.0}) {
             for (TransportMode mode : kModes) {
-                testing::Albedo a = testing::directional_albedo(lobe, direction_deg(t), mode,
-                                                                20000);
+                testing::Albedo a =
+                    testing::directional_albedo(lobe, direction_deg(t), mode, 20000);
                 for (int i = 0; i < kSpectrumSamples; ++i)
                     EXPECT_NEAR(a.mean[i], 1, 1e-5) << eta << " " << t;
             }
@@ -144,8 +143,8 @@ TEST(Dielectric, RoughAlbedoAtMostOne) {
     // Nearly smooth at normal incidence: hardly any masking, almost lossless.
     for (Float eta : kEtas) {
         DielectricLobe lobe{eta, {0.05f, 0.05f}};
-        testing::Albedo a = testing::directional_albedo(lobe, Vec3(0, 0, 1),
-                                                        TransportMode::Importance, 50000);
+        testing::Albedo a =
+            testing::directional_albedo(lobe, Vec3(0, 0, 1), TransportMode::Importance, 50000);
         EXPECT_GT(a.mean[0], 0.99) << eta;
     }
 }

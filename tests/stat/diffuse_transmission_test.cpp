@@ -1,13 +1,14 @@
 // DiffuseTransmissionLobe (and LambertLobe): chi-square of sample() against pdf() for several
 // reflectance/transmittance splits and incident sides, consistency of sample() with f() and
 // pdf(), reciprocity, and the directional albedo r + t.
+#include "steradian/bsdf/diffuse_transmission.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
 #include "stat/chi2.h"
 #include "stat/lobe_util.h"
-#include "steradian/bsdf/diffuse_transmission.h"
 #include "steradian/bsdf/lambert.h"
 #include "steradian/sampling/stats.h"
 #include "steradian/sampling/warp.h"
@@ -64,8 +65,8 @@ TEST(DiffuseTransmission, SamplingMatchesPdfChi2) {
         check(testing::lobe_chi2(lambert, direction_deg(t), TransportMode::Radiance, cfg),
               "lambert theta_o " + std::to_string(int(t)));
     }
-    std::printf("[chi2] diffuse: %d tests, p in [%.3g, %.3g], per-test alpha %.3g\n",
-                kNumChi2Tests, p_min, p_max, alpha);
+    std::printf("[chi2] diffuse: %d tests, p in [%.3g, %.3g], per-test alpha %.3g\n", kNumChi2Tests,
+                p_min, p_max, alpha);
 }
 
 TEST(DiffuseTransmission, SampleAgreesWithFAndPdf) {
@@ -101,9 +102,8 @@ TEST(DiffuseTransmission, AlbedoIsRPlusT) {
     for (const Split& sp : kSplits) {
         DiffuseTransmissionLobe lobe{sp.r, sp.t};
         for (double t : kThetas) {
-            testing::Albedo a =
-                testing::directional_albedo(lobe, direction_deg(t), TransportMode::Radiance,
-                                            100000);
+            testing::Albedo a = testing::directional_albedo(lobe, direction_deg(t),
+                                                            TransportMode::Radiance, 100000);
             for (int i = 0; i < kSpectrumSamples; ++i) {
                 double expected = sp.r[i] + sp.t[i];
                 EXPECT_NEAR(a.mean[i], expected, 4 * a.std_error[i] + 1e-6) << i << " " << t;

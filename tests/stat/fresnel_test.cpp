@@ -2,13 +2,14 @@
 // normal incidence, Brewster's angle, total internal reflection, Stokes reciprocity of the
 // transmittance, the conductor limit k -> 0, gold's normal-incidence reflectance from its
 // tabulated n and k, and Snell's law.
+#include "steradian/bsdf/fresnel.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <complex>
 
 #include "stat/lobe_util.h"
-#include "steradian/bsdf/fresnel.h"
 #include "steradian/spectrum/spectrum.h"
 
 namespace sr {
@@ -54,8 +55,8 @@ TEST(Fresnel, TotalInternalReflectionPastTheCriticalAngle) {
         EXPECT_LT(fr_dielectric(Float(c_before), Float(1 / eta)), 1);
         EXPECT_LT(fr_dielectric(-Float(c_before), Float(eta)), 1);
         Vec3 wt;
-        EXPECT_FALSE(refract(direction_deg(-(theta_c + dt) * 180 / kPiD + 180),
-                             Vec3(0, 0, 1), Float(eta), nullptr, &wt));
+        EXPECT_FALSE(refract(direction_deg(-(theta_c + dt) * 180 / kPiD + 180), Vec3(0, 0, 1),
+                             Float(eta), nullptr, &wt));
     }
     // Grazing incidence reflects everything.
     EXPECT_EQ(fr_dielectric(0, 1.5f), 1);
@@ -102,7 +103,7 @@ TEST(Fresnel, ConductorMatchesComplexReference) {
     // Metals (n < 1, large k), absorbing dielectrics, and n < 1 without absorption (total
     // reflection past the critical angle).
     const double nks[][2] = {{0.13, 4.1}, {0.05, 4.0}, {1.4, 1.9}, {2.9, 3.0},
-                             {1.5, 0.01}, {0.7, 0.0}, {1.0, 1e3}, {3.5, 0.5}};
+                             {1.5, 0.01}, {0.7, 0.0},  {1.0, 1e3}, {3.5, 0.5}};
     for (const auto& nk : nks) {
         for (double c = 0; c <= 1.0001; c += 0.05) {
             double cc = std::min(c, 1.0);

@@ -2,6 +2,8 @@
 // of the visible-normal distribution (equivalently, Smith's G1 is the one that makes the
 // projected areas agree, Heitz 2014 Eq. 43), G1 closed forms, and a chi-square test of
 // visible-normal sampling (Heitz 2018) against D(w, wm).
+#include "steradian/bsdf/microfacet.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 
 #include "stat/chi2.h"
 #include "stat/lobe_util.h"
-#include "steradian/bsdf/microfacet.h"
 #include "steradian/sampling/stats.h"
 
 namespace sr {
@@ -105,8 +106,8 @@ struct VndfCase {
     double theta_deg;
 };
 const VndfCase kVndfCases[] = {
-    {{0.05f, 0.05f}, 0},  {{0.05f, 0.05f}, 60}, {{0.2f, 0.2f}, 30},  {{0.5f, 0.5f}, 85},
-    {{1.0f, 1.0f}, 45},   {{1.0f, 1.0f}, 150},  {{0.05f, 0.4f}, 70}, {{0.6f, 0.15f}, 89},
+    {{0.05f, 0.05f}, 0}, {{0.05f, 0.05f}, 60}, {{0.2f, 0.2f}, 30},  {{0.5f, 0.5f}, 85},
+    {{1.0f, 1.0f}, 45},  {{1.0f, 1.0f}, 150},  {{0.05f, 0.4f}, 70}, {{0.6f, 0.15f}, 89},
 };
 constexpr int kNumChi2Tests = int(std::size(kVndfCases));
 

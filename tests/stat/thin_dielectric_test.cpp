@@ -2,13 +2,14 @@
 // multiple-reflection series (at normal incidence R' = 2R / (1 + R)), lossless sampling
 // (albedo exactly 1), mirror and straight-through directions, the reflection probability,
 // symmetry of the two sides, and the index-matched case.
+#include "steradian/bsdf/thin_dielectric.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "stat/lobe_util.h"
 #include "steradian/bsdf/fresnel.h"
-#include "steradian/bsdf/thin_dielectric.h"
 
 namespace sr {
 namespace {

@@ -31,7 +31,7 @@ static_assert(Lobe<ConductorLobe>);
 static_assert(Lobe<DiffuseTransmissionLobe>);
 
 class Bsdf {
-public:
+  public:
     Bsdf() = default;
     Bsdf(const Frame& shading, Normal3 ng, LobeVariant lobe)
         : m_frame(shading), m_ng(ng), m_lobe(std::move(lobe)) {}
@@ -87,7 +87,7 @@ public:
     Normal3 ng() const { return m_ng; }
     const LobeVariant& lobe() const { return m_lobe; }
 
-private:
+  private:
     Frame m_frame;
     Normal3 m_ng;
     LobeVariant m_lobe;

@@ -19,8 +19,8 @@ std::optional<BsdfSample> ConductorLobe::sample(Vec3 wo, Float, Point2 u, Transp
     if (mf.effectively_smooth()) {
         Vec3 wi(-wo.x, -wo.y, wo.z);
         Float cos_i = std::abs(wi.z);
-        return BsdfSample{fr_complex(cos_i, eta, k) / cos_i, wi, 1,
-                          kLobeReflection | kLobeSpecular, 1};
+        return BsdfSample{fr_complex(cos_i, eta, k) / cos_i, wi, 1, kLobeReflection | kLobeSpecular,
+                          1};
     }
     Vec3 wm = mf.sample_wm(wo, u);
     Vec3 wi = reflect(wo, wm);

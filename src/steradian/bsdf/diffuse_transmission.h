@@ -26,8 +26,8 @@ struct DiffuseTransmissionLobe {
         Float pdf = cosine_hemisphere_pdf(wi.z);
         if (uc < pr / (pr + pt)) {
             if (wo.z < 0) wi.z = -wi.z;
-            return BsdfSample{r * kInvPi, wi, pdf * pr / (pr + pt),
-                              kLobeReflection | kLobeDiffuse, 1};
+            return BsdfSample{r * kInvPi, wi, pdf * pr / (pr + pt), kLobeReflection | kLobeDiffuse,
+                              1};
         }
         if (wo.z > 0) wi.z = -wi.z;
         return BsdfSample{t * kInvPi, wi, pdf * pt / (pr + pt), kLobeTransmission | kLobeDiffuse,

@@ -42,8 +42,8 @@ struct ThinDielectricLobe {
             return BsdfSample{SampledSpectrum(s.r / cos_o), Vec3(-wo.x, -wo.y, wo.z), s.r,
                               kLobeReflection | kLobeSpecular, 1};
         }
-        return BsdfSample{SampledSpectrum(s.t / cos_o), -wo, s.t,
-                          kLobeTransmission | kLobeSpecular, 1};
+        return BsdfSample{SampledSpectrum(s.t / cos_o), -wo, s.t, kLobeTransmission | kLobeSpecular,
+                          1};
     }
     /// Always 0 (deltas).
     Float pdf(Vec3, Vec3, TransportMode) const { return 0; }
