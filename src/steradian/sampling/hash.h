@@ -75,17 +75,24 @@ uint64_t hash(Args... args) {
     return murmur_hash64a(buf, n, 0);
 }
 
-/// Element i of a pseudo-random permutation of {0, ..., n-1} selected by seed; i < n.
-/// Kensler 2013, "Correlated Multi-Jittered Sampling", Pixar Technical Memo 13-01, Listing 3:
-/// a bijective hash on the smallest power-of-two range covering n (xorshifts and odd
-/// multiplications restricted to the low bits) with cycle walking back into [0, n).
-inline uint32_t permutation_element(uint32_t i, uint32_t n, uint32_t seed) {
+/// The smallest 2^k - 1 >= n - 1 (all bits below the highest set bit of n - 1): the mask of
+/// permutation_element's power-of-two range.
+constexpr uint32_t permutation_mask(uint32_t n) {
     uint32_t w = n - 1;
     w |= w >> 1;
     w |= w >> 2;
     w |= w >> 4;
     w |= w >> 8;
     w |= w >> 16;
+    return w;
+}
+
+/// Element i of a pseudo-random permutation of {0, ..., n-1} selected by seed; i < n, and
+/// w = permutation_mask(n) (precomputed by callers that use the same n many times).
+/// Kensler 2013, "Correlated Multi-Jittered Sampling", Pixar Technical Memo 13-01, Listing 3:
+/// a bijective hash on the smallest power-of-two range covering n (xorshifts and odd
+/// multiplications restricted to the low bits) with cycle walking back into [0, n).
+inline uint32_t permutation_element(uint32_t i, uint32_t n, uint32_t w, uint32_t seed) {
     do {
         i ^= seed;
         i *= 0xe170893du;
@@ -106,19 +113,33 @@ inline uint32_t permutation_element(uint32_t i, uint32_t n, uint32_t seed) {
         i &= w;
         i ^= i >> 5;
     } while (i >= n);
-    return (i + seed) % n;
+    // (i + seed) mod n; a mask when n is a power of two (n == w + 1).
+    return n == w + 1 ? (i + seed) & w : (i + seed) % n;
 }
 
+/// Element i of a pseudo-random permutation of {0, ..., n-1} selected by seed; i < n.
+inline uint32_t permutation_element(uint32_t i, uint32_t n, uint32_t seed) {
+    return permutation_element(i, n, permutation_mask(n), seed);
+}
+
+/// Bit reversal (bit k goes to bit 31 - k): swaps of adjacent bits, bit pairs and nibbles
+/// reverse the bits within each byte, and one byte swap (a single bswap instruction) reverses
+/// the bytes: 3 mask-and-shift steps instead of 5.
 constexpr uint32_t reverse_bits32(uint32_t v) {
     v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
     v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
-    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
-    return (v >> 16) | (v << 16);
+    return __builtin_bswap32(v);
 }
 
+/// 64-bit bit reversal, the same way; reverses two 32-bit values at once as well:
+/// reverse_bits64((uint64_t(a) << 32) | b) == (uint64_t(reverse_bits32(b)) << 32) |
+/// reverse_bits32(a).
 constexpr uint64_t reverse_bits64(uint64_t v) {
-    return (uint64_t(reverse_bits32(uint32_t(v))) << 32) | reverse_bits32(uint32_t(v >> 32));
+    v = ((v >> 1) & 0x5555555555555555ULL) | ((v & 0x5555555555555555ULL) << 1);
+    v = ((v >> 2) & 0x3333333333333333ULL) | ((v & 0x3333333333333333ULL) << 2);
+    v = ((v >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((v & 0x0f0f0f0f0f0f0f0fULL) << 4);
+    return __builtin_bswap64(v);
 }
 
 /// Laine-Karras style permutation (Laine & Karras 2011, "Stratified Sampling for Stochastic
@@ -140,6 +161,13 @@ constexpr uint32_t laine_karras_permutation(uint32_t x, uint32_t seed) {
 /// (t,m,s)-net properties are preserved). Bijective on uint32.
 constexpr uint32_t owen_scramble(uint32_t v, uint32_t seed) {
     return reverse_bits32(laine_karras_permutation(reverse_bits32(v), seed));
+}
+
+/// owen_scramble(reverse_bits32(a), seed) with one bit reversal instead of three: the
+/// Owen-scrambled radical inverse in base 2 of a (Sobol dimension 0 is reverse_bits32), and
+/// in general the Owen scrambling of any value given bit-reversed.
+constexpr uint32_t owen_scrambled_reversed(uint32_t a, uint32_t seed) {
+    return reverse_bits32(laine_karras_permutation(a, seed));
 }
 
 /// Nested uniform shuffle of a sample index (Burley 2020, Sec. 3): the same scrambling

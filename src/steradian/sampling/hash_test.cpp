@@ -104,6 +104,72 @@ TEST(Hash, ReverseBits) {
     }
 }
 
+TEST(Hash, ReverseBits64ReversesTwoHalvesAtOnce) {
+    Pcg32 rng(7, 1);
+    for (int i = 0; i < 1000; ++i) {
+        uint32_t a = rng.next_u32(), b = rng.next_u32();
+        uint64_t v = (uint64_t(a) << 32) | b;
+        EXPECT_EQ(reverse_bits64(v), (uint64_t(reverse_bits32(b)) << 32) | reverse_bits32(a));
+        EXPECT_EQ(reverse_bits64(reverse_bits64(v)), v);
+    }
+}
+
+TEST(Hash, OwenScrambledReversedSkipsTwoReversals) {
+    Pcg32 rng(9, 2);
+    for (int i = 0; i < 1000; ++i) {
+        uint32_t a = rng.next_u32(), seed = rng.next_u32();
+        EXPECT_EQ(owen_scrambled_reversed(a, seed), owen_scramble(reverse_bits32(a), seed));
+    }
+}
+
+TEST(Hash, PermutationElementWithPrecomputedMask) {
+    EXPECT_EQ(permutation_mask(1), 0u);
+    EXPECT_EQ(permutation_mask(2), 1u);
+    EXPECT_EQ(permutation_mask(16), 15u);
+    EXPECT_EQ(permutation_mask(17), 31u);
+    EXPECT_EQ(permutation_mask(100), 127u);
+    // Kensler's Listing 3 as published (mask recomputed, final step with %): the precomputed
+    // mask and the power-of-two shortcut (a mask instead of %) change nothing.
+    auto kensler = [](uint32_t i, uint32_t l, uint32_t p) {
+        uint32_t w = l - 1;
+        w |= w >> 1;
+        w |= w >> 2;
+        w |= w >> 4;
+        w |= w >> 8;
+        w |= w >> 16;
+        do {
+            i ^= p;
+            i *= 0xe170893du;
+            i ^= p >> 16;
+            i ^= (i & w) >> 4;
+            i ^= p >> 8;
+            i *= 0x0929eb3fu;
+            i ^= p >> 23;
+            i ^= (i & w) >> 1;
+            i *= 1u | (p >> 27);
+            i *= 0x6935fa69u;
+            i ^= (i & w) >> 11;
+            i *= 0x74dcb303u;
+            i ^= (i & w) >> 2;
+            i *= 0x9e501cc3u;
+            i ^= (i & w) >> 2;
+            i *= 0xc860a3dfu;
+            i &= w;
+            i ^= i >> 5;
+        } while (i >= l);
+        return (i + p) % l;
+    };
+    for (uint32_t n : {1u, 2u, 8u, 64u, 1024u, 12u, 100u}) {
+        for (uint32_t seed : {0u, 77u, 0xfedcba98u}) {
+            for (uint32_t i = 0; i < n; ++i) {
+                EXPECT_EQ(permutation_element(i, n, permutation_mask(n), seed),
+                          kensler(i, n, seed));
+                EXPECT_EQ(permutation_element(i, n, seed), kensler(i, n, seed));
+            }
+        }
+    }
+}
+
 TEST(Hash, OwenScrambleIsNestedAndBijective) {
     Pcg32 rng(21, 22);
     for (int trial = 0; trial < 20; ++trial) {
@@ -209,6 +275,25 @@ TEST(Sobol, AlignedBlocksAreZeroTwoNets) {
     // An unaligned block is not a net in general: indices 1..4 put two points in [0, 1/2) in
     // x ((1/2, 1/2), (1/4, 3/4), (3/4, 1/4), (1/8, 5/8): x = 1/4 and 1/8 both below 1/2).
     EXPECT_NE(testing::check_02_net(sobol_block(1, 2, Randomization::kNone, 0)), "");
+}
+
+TEST(Sobol, FloatPointsMatchTheReferenceFormulas) {
+    // sobol_1d_float and sobol_2d_float (SSE4.1 where compiled for it, scalar otherwise) against
+    // the definitions: randomize the Sobol digits, then u32_to_unit_float.
+    Pcg32 rng(12, 34);
+    for (Randomization r : {Randomization::kNone, Randomization::kXor, Randomization::kOwen}) {
+        for (int t = 0; t < 20000; ++t) {
+            uint64_t a = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
+            if (t % 3 == 0) a >>= rng.next_u32(64);
+            uint64_t key = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
+            Float x = u32_to_unit_float(randomize(sobol_u32_dim0(a), r, uint32_t(key)));
+            Float y = u32_to_unit_float(randomize(sobol_u32_dim1(a), r, uint32_t(key >> 32)));
+            ASSERT_EQ(sobol_1d_float(uint32_t(a), r, uint32_t(key)), x) << to_string(r);
+            Point2 p = sobol_2d_float(uint32_t(a), uint32_t(pascal_mod2_transform(a)), r, key);
+            ASSERT_EQ(p.x, x) << to_string(r);
+            ASSERT_EQ(p.y, y) << to_string(r);
+        }
+    }
 }
 
 TEST(Morton, InterleavesBits) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -163,6 +164,26 @@ TEST(UnitFloat, NeverOneAndPreservesDyadicIntervals) {
         if (a > b) std::swap(a, b);
         ASSERT_LE(u32_to_unit_float(a), u32_to_unit_float(b));
     }
+}
+
+TEST(UnitFloat, TruncatesToTwentyFourSignificantBits) {
+    // The definition: mask v below its 24 most significant set bits, then convert (exactly).
+    auto reference = [](uint32_t v) {
+        int width = 32 - std::countl_zero(v);
+        int drop = width > 24 ? width - 24 : 0;
+        return float(v & ~((uint32_t(1) << drop) - 1)) * 0x1p-32f;
+    };
+    std::vector<uint32_t> values = {0u,          1u,          2u,          0xffffffu,   0x1000000u,
+                                    0x1000001u,  0x1ffffffu,  0x7fffffffu, 0x80000000u, 0x80000001u,
+                                    0xfffffeffu, 0xffffff00u, 0xffffffffu};
+    for (int k = 0; k < 32; ++k) {
+        values.push_back(uint32_t(1) << k);
+        values.push_back((uint32_t(1) << k) - 1);
+        values.push_back(~uint32_t(0) >> k);
+    }
+    Pcg32 rng(3, 5);
+    for (int i = 0; i < 200000; ++i) values.push_back(rng.next_u32() >> (i % 32));
+    for (uint32_t v : values) ASSERT_EQ(u32_to_unit_float(v), reference(v)) << std::hex << v;
 }
 
 }  // namespace

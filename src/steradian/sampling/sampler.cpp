@@ -34,11 +34,42 @@ std::string to_string(Randomization r) {
 
 namespace {
 
-/// Point in [0,1)^2 of the (0,2)-sequence at index a, each coordinate randomized with its own
-/// 32-bit half of key.
-Point2 sobol_2d(uint64_t a, Randomization r, uint64_t key) {
-    return {u32_to_unit_float(randomize(sobol_u32_dim0(a), r, uint32_t(key))),
-            u32_to_unit_float(randomize(sobol_u32_dim1(a), r, uint32_t(key >> 32)))};
+/// sobol_1d_float(nested_uniform_shuffle(i, index_seed), r, seed) given reversed_index =
+/// reverse_bits32(i): two Laine-Karras permutations, each followed by a bit reversal (on SSE
+/// registers where available: there the two reversals and the conversion cost about half the
+/// scalar instructions).
+[[gnu::always_inline]] inline Float nested_sobol_1d_float(uint32_t reversed_index,
+                                                          uint32_t index_seed, Randomization r,
+                                                          uint32_t seed) {
+#if defined(SR_SOBOL_SSE4)
+    __m128i v = detail::laine_karras_epi32(_mm_cvtsi32_si128(int32_t(reversed_index)),
+                                           _mm_cvtsi32_si128(int32_t(index_seed)));
+    v = detail::reverse_bits_epi32(v);  // the shuffled index
+    __m128i s = _mm_cvtsi32_si128(int32_t(seed));
+    if (r == Randomization::kOwen) v = detail::laine_karras_epi32(v, s);
+    v = detail::reverse_bits_epi32(v);
+    if (r == Randomization::kXor) v = _mm_xor_si128(v, s);
+    return _mm_cvtss_f32(detail::unit_float_epi32x2(v));
+#else
+    return sobol_1d_float(reverse_bits32(laine_karras_permutation(reversed_index, index_seed)), r,
+                          seed);
+#endif
+}
+
+/// Key of the hashed (pseudo-random) dimensions of a pixel sample; distinct from the
+/// hash_combine(pixel_key, dimension) keys (their second argument is below 2^32).
+uint64_t hashed_dimensions_key(uint64_t pixel_key, int sample_index) {
+    return hash_combine(pixel_key, (uint64_t(1) << 32) + uint32_t(sample_index));
+}
+
+/// Dimension d >= kLowDiscrepancyDimensions: output d of the splitmix64 generator started at
+/// the sample's key (Steele, Lea, Flood 2014), 32 bits per value.
+[[gnu::noinline]] Float hashed_1d(uint64_t sample_key, int d) {
+    return u32_to_unit_float(uint32_t(mix_bits(sample_key + kGolden64 * uint64_t(d)) >> 32));
+}
+[[gnu::noinline]] Point2 hashed_2d(uint64_t sample_key, int d) {
+    uint64_t bits = mix_bits(sample_key + kGolden64 * uint64_t(d));
+    return {u32_to_unit_float(uint32_t(bits >> 32)), u32_to_unit_float(uint32_t(bits))};
 }
 
 /// A value in stratum `stratum` of n equal strata of [0, 1), at fraction delta in [0, 1) of
@@ -69,6 +100,41 @@ constexpr std::array<std::array<uint8_t, 4>, 24> make_base4_permutations() {
     return perms;
 }
 constexpr auto kBase4Permutations = make_base4_permutations();
+
+/// kBase4Columns[d][p] = kBase4Permutations[p][d]: the image of digit d under each
+/// permutation, so that a digit known in advance selects its row once.
+constexpr std::array<std::array<uint8_t, 24>, 4> make_base4_columns() {
+    std::array<std::array<uint8_t, 24>, 4> cols{};
+    for (std::size_t p = 0; p < 24; ++p)
+        for (std::size_t d = 0; d < 4; ++d) cols[d][p] = kBase4Permutations[p][d];
+    return cols;
+}
+constexpr auto kBase4Columns = make_base4_columns();
+
+/// Odd multiplier that turns (node hash ^ dimension key) into a permutation choice (a
+/// bijection whose top bits depend on all bits).
+constexpr uint64_t kPermutationMul = 0xd6e8feb86659fd93ULL;
+
+/// Which of the 24 permutations of {0,1,2,3} a quadtree node uses for a dimension.
+inline std::size_t base4_permutation(uint64_t node_hash, uint64_t dim_key) {
+    uint64_t t = (node_hash ^ dim_key) * kPermutationMul;
+    return std::size_t(((t >> 32) * 24) >> 32);
+}
+
+/// Whether a single-bit node flips its bit for a dimension.
+inline uint64_t binary_flip(uint64_t node_hash, uint64_t dim_key) {
+    return ((node_hash ^ dim_key) * kPermutationMul) >> 63;
+}
+
+/// Sobol dimension-1 digits (pascal_mod2_transform) of the indices below 256. The transform is
+/// linear over GF(2) and maps bits below 2^k to bits below 2^k, so the digits of an index whose
+/// high bits are shared by a pixel's samples split into a memoized high part and this table.
+constexpr std::array<uint8_t, 256> make_pascal8() {
+    std::array<uint8_t, 256> t{};
+    for (std::size_t i = 0; i < 256; ++i) t[i] = uint8_t(pascal_mod2_transform(i));
+    return t;
+}
+constexpr auto kPascal8 = make_pascal8();
 
 }  // namespace
 
@@ -152,7 +218,7 @@ std::unique_ptr<Sampler> StratifiedSampler::clone() const {
 
 ZSobolSampler::ZSobolSampler(int samples_per_pixel, Vec2i resolution, uint64_t seed,
                              Randomization randomize)
-    : Sampler(samples_per_pixel), m_seed_key(mix_bits(seed)), m_randomize(randomize) {
+    : Sampler(samples_per_pixel), m_seed(seed), m_seed_key(mix_bits(seed)), m_randomize(randomize) {
     check_spp(samples_per_pixel);
     if (resolution.x < 1 || resolution.y < 1) {
         throw Error(
@@ -160,59 +226,207 @@ ZSobolSampler::ZSobolSampler(int samples_per_pixel, Vec2i resolution, uint64_t s
     }
     m_log2_spp = int(std::bit_width(uint32_t(samples_per_pixel) - 1));  // ceil(log2(spp))
     int log2_res = int(std::bit_width(uint32_t(std::max(resolution.x, resolution.y)) - 1));
-    m_num_base4_digits = log2_res + (m_log2_spp + 1) / 2;
     if (2 * log2_res + m_log2_spp > 64) {
         throw Error("zsobol sampler: resolution x samples per pixel exceed 64-bit sample indices");
     }
+    m_num_sample_digits = (m_log2_spp + 1) / 2;
+    m_num_base4_digits = log2_res + m_num_sample_digits;
+    m_hashed_digits_end = std::min(m_num_base4_digits, m_num_sample_digits + kHashedPixelLevels);
+    int odd = m_log2_spp & 1;
+    int xor_lo = 2 * m_hashed_digits_end - odd, xor_hi = 2 * m_num_base4_digits - odd;
+    if (xor_hi > xor_lo) {
+        uint64_t below_hi = xor_hi < 64 ? (uint64_t(1) << xor_hi) - 1 : ~uint64_t(0);
+        m_xor_mask = below_hi & ~((uint64_t(1) << xor_lo) - 1);
+    }
+    // The keys depend on (dimension, seed) only.
+    for (int d = 0; d < kLowDiscrepancyDimensions; ++d) {
+        m_dim_key[std::size_t(d)] = dimension_key(d);
+        m_scramble_key[std::size_t(d)] = mix_bits(dimension_key(d));
+    }
+    select_kernels();
 }
 
+// Digits are base 4 from the top; if log2(spp) is odd, the lowest digit is a single bit, so that
+// the boundary between pixel bits and sample bits is always a digit boundary: digits
+// [0, m_num_sample_digits) hold the sample index, the others the pixel. Each digit is a node of
+// the quadtree over (pixels, samples), identified by the digits above it and its level; its
+// hash is computed once (per pixel for the hashed pixel digits and the highest sample digit,
+// whose node is the pixel; per pixel sample for the other sample digits), leaving one multiply
+// per digit and dimension.
 void ZSobolSampler::start_pixel_sample(Vec2i pixel, int sample_index, int dimension) {
-    m_morton_index = (encode_morton2(uint32_t(pixel.x), uint32_t(pixel.y)) << m_log2_spp) |
-                     uint64_t(uint32_t(sample_index));
-    m_dimension = kPixelDimensions + dimension;
-    // Digits are base 4 from the top; if log2(spp) is odd, the lowest digit is a single bit, so
-    // that the boundary between pixel bits and sample bits is always a digit boundary. Each
-    // digit is a node of the quadtree over (pixels, samples), identified by the digits above it
-    // and its level; hash those once per pixel sample, leaving one multiply per digit and
-    // dimension for sobol_index().
     int odd = m_log2_spp & 1;
-    int top_shift = 2 * m_num_base4_digits - odd;
-    m_index_high_bits = top_shift < 64 ? (m_morton_index >> top_shift) << top_shift : 0;
-    for (int i = odd; i < m_num_base4_digits; ++i) {
-        int shift = 2 * i - odd;
-        uint64_t higher = shift + 2 < 64 ? m_morton_index >> (shift + 2) : 0;
-        m_node_hash[std::size_t(i)] = mix_bits((higher ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
+    int top = m_num_sample_digits - 1;  // the highest sample digit (-1: none)
+    if (!m_have_pixel || pixel != m_pixel) {
+        m_have_pixel = true;
+        m_pixel = pixel;
+        m_pixel_key = hash(pixel, m_seed);
+        m_prefix_valid = 0;
+        m_pixel_index = encode_morton2(uint32_t(pixel.x), uint32_t(pixel.y)) << m_log2_spp;
+        int top_shift = 2 * m_num_base4_digits - odd;
+        m_index_high_bits = top_shift < 64 ? (m_pixel_index >> top_shift) << top_shift : 0;
+        for (int i = std::max(top, odd); i < m_hashed_digits_end; ++i) {
+            int shift = 2 * i - odd;
+            uint64_t higher = shift + 2 < 64 ? m_pixel_index >> (shift + 2) : 0;
+            m_node_hash[std::size_t(i)] =
+                mix_bits((higher ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
+        }
+        if (odd && top == 0) m_node_hash[0] = mix_bits((m_pixel_index >> 1) ^ m_seed_key);
     }
-    if (odd) m_node_hash[0] = mix_bits((m_morton_index >> 1) ^ m_seed_key);
+    m_morton_index = m_pixel_index | uint64_t(uint32_t(sample_index));
+    m_sample_key = hashed_dimensions_key(m_pixel_key, sample_index);
+    m_dimension = kPixelDimensions + dimension;
+    for (int i = odd; i < top; ++i) {
+        int shift = 2 * i - odd;
+        m_node_hash[std::size_t(i)] =
+            mix_bits(((m_morton_index >> (shift + 2)) ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
+    }
+    if (odd && top > 0) m_node_hash[0] = mix_bits((m_morton_index >> 1) ^ m_seed_key);
+    for (int i = odd; i <= top; ++i)
+        m_sample_column[std::size_t(i)] =
+            kBase4Columns[(m_morton_index >> (2 * i - odd)) & 3].data();
 }
 
-uint64_t ZSobolSampler::sobol_index(int dimension) const {
-    // Per-node random permutation of the four quadrants (Ahmed & Wonka 2020, Sec. 4: a nested,
-    // Owen-style shuffle of the Morton index in base 4), chosen from the node's hash and the
-    // dimension's key by an odd multiply (a bijection whose top bits depend on all bits).
-    constexpr uint64_t kMul = 0xd6e8feb86659fd93ULL;
-    uint64_t key = dimension_key(dimension);
+// Per-node random permutation of the four quadrants (Ahmed & Wonka 2020, Sec. 4: a nested,
+// Owen-style shuffle of the Morton index in base 4), chosen from the node's hash and the
+// dimension's key; above the hashed levels, XOR with a per-dimension constant (also nested:
+// it maps aligned blocks onto aligned blocks).
+
+uint64_t ZSobolSampler::pixel_digits(uint64_t dim_key, uint64_t dim_xor) const {
     int odd = m_log2_spp & 1;
-    uint64_t result = m_index_high_bits;
-    for (int i = odd; i < m_num_base4_digits; ++i) {
+    uint64_t result = m_index_high_bits | ((m_pixel_index & m_xor_mask) ^ dim_xor);
+    for (int i = m_num_sample_digits; i < m_hashed_digits_end; ++i) {
         int shift = 2 * i - odd;
-        uint64_t digit = (m_morton_index >> shift) & 3;
-        uint64_t t = (m_node_hash[std::size_t(i)] ^ key) * kMul;
-        auto perm = std::size_t(((t >> 32) * 24) >> 32);
+        std::size_t digit = (m_pixel_index >> shift) & 3;
+        std::size_t perm = base4_permutation(m_node_hash[std::size_t(i)], dim_key);
         result |= uint64_t(kBase4Permutations[perm][digit]) << shift;
-    }
-    if (odd) {
-        uint64_t flip = ((m_node_hash[0] ^ key) * kMul) >> 63;
-        result |= (m_morton_index & 1) ^ flip;
     }
     return result;
 }
 
+uint8_t ZSobolSampler::top_sample_choice(uint64_t dim_key) const {
+    int top = m_num_sample_digits - 1;
+    if (top < 0) return 0;
+    if ((m_log2_spp & 1) && top == 0) return uint8_t(binary_flip(m_node_hash[0], dim_key));
+    return uint8_t(base4_permutation(m_node_hash[std::size_t(top)], dim_key));
+}
+
+template <int kLog2Spp>
+uint64_t ZSobolSampler::sample_digits(uint64_t dim_key, uint8_t top_choice) const {
+    if constexpr (kLog2Spp == 0) {
+        return 0;
+    } else {
+        const int m = kLog2Spp > 0 ? kLog2Spp : m_log2_spp;
+        const int odd = m & 1, top = (m + 1) / 2 - 1;
+        if (top < 0) return 0;
+        uint64_t result;
+        if (odd && top == 0) {
+            result = (m_morton_index & 1) ^ top_choice;
+        } else {
+            result = uint64_t(m_sample_column[std::size_t(top)][top_choice]) << (2 * top - odd);
+            if (odd) result |= (m_morton_index & 1) ^ binary_flip(m_node_hash[0], dim_key);
+        }
+        for (int i = odd; i < top; ++i) {
+            std::size_t perm = base4_permutation(m_node_hash[std::size_t(i)], dim_key);
+            result |= uint64_t(m_sample_column[std::size_t(i)][perm]) << (2 * i - odd);
+        }
+        return result;
+    }
+}
+
+uint64_t ZSobolSampler::sobol_index(int dimension) const {
+    uint64_t key = dimension_key(dimension);
+    return pixel_digits(key, dimension_xor(key)) | sample_digits<-1>(key, top_sample_choice(key));
+}
+
+void ZSobolSampler::fill_pixel_dimension(int d) {
+    auto i = std::size_t(d);
+    uint64_t key = m_dim_key[i];
+    m_prefix[i] = pixel_digits(key, dimension_xor(key));
+    m_prefix_pascal[i] = uint32_t(pascal_mod2_transform(m_prefix[i]));
+    m_top_choice[i] = top_sample_choice(key);
+    m_prefix_valid |= uint64_t(1) << d;
+}
+
+// The hot paths make no calls but tail calls (the first use of a dimension in a pixel goes
+// through a separate function that fills and then evaluates), so they need no stack frame.
+// They are instantiated per log2(samples per pixel) <= 8, so that the sample digit loop is
+// unrolled, and selected once by the constructor.
+
+template <int kLog2Spp>
+Float ZSobolSampler::get_1d_impl(ZSobolSampler& s, int d) {
+    if (!((s.m_prefix_valid >> d) & 1)) [[unlikely]]
+        return fill_and_get_1d<kLog2Spp>(s, d);
+    return s.value_1d<kLog2Spp>(d);
+}
+
+template <int kLog2Spp>
+[[gnu::noinline]] Float ZSobolSampler::fill_and_get_1d(ZSobolSampler& s, int d) {
+    s.fill_pixel_dimension(d);
+    return s.value_1d<kLog2Spp>(d);
+}
+
+template <int kLog2Spp>
+[[gnu::always_inline]] inline Float ZSobolSampler::value_1d(int d) const {
+    auto i = std::size_t(d);
+    uint64_t a = m_prefix[i] | sample_digits<kLog2Spp>(m_dim_key[i], m_top_choice[i]);
+    return sobol_1d_float(uint32_t(a), m_randomize, uint32_t(m_scramble_key[std::size_t(d)]));
+}
+
+template <int kLog2Spp>
+Point2 ZSobolSampler::sample_2d_impl(ZSobolSampler& s, int d) {
+    if (!((s.m_prefix_valid >> d) & 1)) [[unlikely]]
+        return fill_and_sample_2d<kLog2Spp>(s, d);
+    return s.value_2d<kLog2Spp>(d);
+}
+
+template <int kLog2Spp>
+[[gnu::noinline]] Point2 ZSobolSampler::fill_and_sample_2d(ZSobolSampler& s, int d) {
+    s.fill_pixel_dimension(d);
+    return s.value_2d<kLog2Spp>(d);
+}
+
+template <int kLog2Spp>
+[[gnu::always_inline]] inline Point2 ZSobolSampler::value_2d(int d) const {
+    auto i = std::size_t(d);
+    uint64_t low = sample_digits<kLog2Spp>(m_dim_key[i], m_top_choice[i]);
+    uint64_t a = m_prefix[i] | low;
+    // Dimension-1 digits: the memoized ones of the pixel digits and those of the sample digits.
+    uint32_t y_digits = m_prefix_pascal[i];
+    if constexpr (kLog2Spp >= 0 && kLog2Spp <= 8)
+        y_digits ^= kPascal8[std::size_t(low)];
+    else
+        y_digits ^= uint32_t(pascal_mod2_transform(low));
+    return sobol_2d_float(uint32_t(a), y_digits, m_randomize, m_scramble_key[i]);
+}
+
+void ZSobolSampler::select_kernels() {
+    switch (m_log2_spp) {
+#define SR_ZSOBOL_CASE(m)                    \
+    case m:                                  \
+        m_get_1d_fn = &get_1d_impl<m>;       \
+        m_sample_2d_fn = &sample_2d_impl<m>; \
+        return;
+        SR_ZSOBOL_CASE(0)
+        SR_ZSOBOL_CASE(1)
+        SR_ZSOBOL_CASE(2)
+        SR_ZSOBOL_CASE(3)
+        SR_ZSOBOL_CASE(4)
+        SR_ZSOBOL_CASE(5)
+        SR_ZSOBOL_CASE(6)
+        SR_ZSOBOL_CASE(7)
+        SR_ZSOBOL_CASE(8)
+#undef SR_ZSOBOL_CASE
+        default:
+            m_get_1d_fn = &get_1d_impl<-1>;
+            m_sample_2d_fn = &sample_2d_impl<-1>;
+    }
+}
+
 Float ZSobolSampler::get_1d() {
-    uint64_t a = sobol_index(m_dimension);
-    uint64_t scramble_key = mix_bits(dimension_key(m_dimension));
-    ++m_dimension;
-    return u32_to_unit_float(randomize(sobol_u32_dim0(a), m_randomize, uint32_t(scramble_key)));
+    int d = m_dimension++;
+    if (d >= kLowDiscrepancyDimensions) [[unlikely]]
+        return hashed_1d(m_sample_key, d);
+    return m_get_1d_fn(*this, d);
 }
 
 Point2 ZSobolSampler::get_2d() {
@@ -221,8 +435,10 @@ Point2 ZSobolSampler::get_2d() {
     return p;
 }
 
-Point2 ZSobolSampler::sample_2d(int dimension) const {
-    return sobol_2d(sobol_index(dimension), m_randomize, mix_bits(dimension_key(dimension)));
+Point2 ZSobolSampler::sample_2d(int d) {
+    if (d >= kLowDiscrepancyDimensions) [[unlikely]]
+        return hashed_2d(m_sample_key, d);
+    return m_sample_2d_fn(*this, d);
 }
 
 std::unique_ptr<Sampler> ZSobolSampler::clone() const {
@@ -235,28 +451,94 @@ PaddedSobolSampler::PaddedSobolSampler(int samples_per_pixel, uint64_t seed,
                                        SobolIndexShuffle shuffle, Randomization randomize)
     : Sampler(samples_per_pixel), m_seed(seed), m_shuffle(shuffle), m_randomize(randomize) {
     check_spp(samples_per_pixel);
+    m_log2_spp = int(std::bit_width(uint32_t(samples_per_pixel) - 1));
+    m_low_mask = uint32_t((uint64_t(1) << m_log2_spp) - 1);
+    m_permutation_mask = permutation_mask(uint32_t(samples_per_pixel));
+    select_kernels();
 }
 
 void PaddedSobolSampler::start_pixel_sample(Vec2i pixel, int sample_index, int dimension) {
-    m_pixel_key = hash(pixel, m_seed);
+    if (!m_have_pixel || pixel != m_pixel) {
+        m_have_pixel = true;
+        m_pixel = pixel;
+        m_pixel_key = hash(pixel, m_seed);
+        m_keys_valid = 0;
+    }
     m_sample_index = sample_index;
+    m_reversed_index = reverse_bits32(uint32_t(sample_index));
+    m_split_pascal = m_log2_spp <= 8 && (uint32_t(sample_index) & ~m_low_mask) == 0;
+    m_sample_key = hashed_dimensions_key(m_pixel_key, sample_index);
     m_dimension = kPixelDimensions + dimension;
 }
 
-uint32_t PaddedSobolSampler::shuffled_index(uint64_t key) const {
-    if (m_shuffle == SobolIndexShuffle::kPermutation) {
+void PaddedSobolSampler::fill_keys(int d) {
+    auto i = std::size_t(d);
+    uint64_t key = hash_combine(m_pixel_key, uint64_t(d));
+    m_index_key[i] = uint32_t(key);
+    m_scramble_key[i] = mix_bits(key);
+    // The nested uniform shuffle maps [0, 2^m) into one aligned block of 2^m indices: its bits
+    // above the low m are those of the image of 0. The permutation stays below 2^m.
+    uint32_t high = m_shuffle == SobolIndexShuffle::kNestedUniform
+                        ? nested_uniform_shuffle(0, uint32_t(key)) & ~m_low_mask
+                        : 0;
+    m_high_pascal[i] = uint32_t(pascal_mod2_transform(high));
+    m_keys_valid |= uint64_t(1) << d;
+}
+
+template <SobolIndexShuffle kShuffle>
+[[gnu::always_inline]] inline uint32_t PaddedSobolSampler::shuffled_index(int d) const {
+    uint32_t seed = m_index_key[std::size_t(d)];
+    if constexpr (kShuffle == SobolIndexShuffle::kPermutation) {
         return permutation_element(uint32_t(m_sample_index), uint32_t(samples_per_pixel()),
-                                   uint32_t(key));
+                                   m_permutation_mask, seed);
+    } else {
+        // nested_uniform_shuffle(sample index), with the index reversed once per pixel sample.
+        return reverse_bits32(laine_karras_permutation(m_reversed_index, seed));
     }
-    return nested_uniform_shuffle(uint32_t(m_sample_index), uint32_t(key));
+}
+
+// As for ZSobolSampler: kernels per index shuffle, selected by the constructor; the first use
+// of a dimension in a pixel is a tail call, so that the hot paths need no stack frame.
+
+void PaddedSobolSampler::select_kernels() {
+    if (m_shuffle == SobolIndexShuffle::kPermutation) {
+        m_get_1d_fn = &get_1d_impl<SobolIndexShuffle::kPermutation>;
+        m_sample_2d_fn = &sample_2d_impl<SobolIndexShuffle::kPermutation>;
+    } else {
+        m_get_1d_fn = &get_1d_impl<SobolIndexShuffle::kNestedUniform>;
+        m_sample_2d_fn = &sample_2d_impl<SobolIndexShuffle::kNestedUniform>;
+    }
 }
 
 Float PaddedSobolSampler::get_1d() {
-    uint64_t key = hash_combine(m_pixel_key, uint64_t(m_dimension));
-    ++m_dimension;
-    uint32_t a = shuffled_index(key);
-    uint64_t scramble_key = mix_bits(key);
-    return u32_to_unit_float(randomize(sobol_u32_dim0(a), m_randomize, uint32_t(scramble_key)));
+    int d = m_dimension++;
+    if (d >= kLowDiscrepancyDimensions) [[unlikely]]
+        return hashed_1d(m_sample_key, d);
+    return m_get_1d_fn(*this, d);
+}
+
+template <SobolIndexShuffle kShuffle>
+Float PaddedSobolSampler::get_1d_impl(PaddedSobolSampler& s, int d) {
+    if (!((s.m_keys_valid >> d) & 1)) [[unlikely]]
+        return fill_and_get_1d<kShuffle>(s, d);
+    return s.value_1d<kShuffle>(d);
+}
+
+template <SobolIndexShuffle kShuffle>
+[[gnu::noinline]] Float PaddedSobolSampler::fill_and_get_1d(PaddedSobolSampler& s, int d) {
+    s.fill_keys(d);
+    return s.value_1d<kShuffle>(d);
+}
+
+template <SobolIndexShuffle kShuffle>
+[[gnu::always_inline]] inline Float PaddedSobolSampler::value_1d(int d) const {
+    auto scramble = uint32_t(m_scramble_key[std::size_t(d)]);
+    if constexpr (kShuffle == SobolIndexShuffle::kNestedUniform) {
+        return nested_sobol_1d_float(m_reversed_index, m_index_key[std::size_t(d)], m_randomize,
+                                     scramble);
+    } else {
+        return sobol_1d_float(shuffled_index<kShuffle>(d), m_randomize, scramble);
+    }
 }
 
 Point2 PaddedSobolSampler::get_2d() {
@@ -265,9 +547,44 @@ Point2 PaddedSobolSampler::get_2d() {
     return p;
 }
 
-Point2 PaddedSobolSampler::sample_2d(int dimension) const {
-    uint64_t key = hash_combine(m_pixel_key, uint64_t(dimension));
-    return sobol_2d(shuffled_index(key), m_randomize, mix_bits(key));
+Point2 PaddedSobolSampler::sample_2d(int d) {
+    if (d >= kLowDiscrepancyDimensions) [[unlikely]]
+        return hashed_2d(m_sample_key, d);
+    return m_sample_2d_fn(*this, d);
+}
+
+template <SobolIndexShuffle kShuffle>
+Point2 PaddedSobolSampler::sample_2d_impl(PaddedSobolSampler& s, int d) {
+    if (!((s.m_keys_valid >> d) & 1)) [[unlikely]]
+        return fill_and_sample_2d<kShuffle>(s, d);
+    return s.value_2d<kShuffle>(d);
+}
+
+template <SobolIndexShuffle kShuffle>
+[[gnu::noinline]] Point2 PaddedSobolSampler::fill_and_sample_2d(PaddedSobolSampler& s, int d) {
+    s.fill_keys(d);
+    return s.value_2d<kShuffle>(d);
+}
+
+template <SobolIndexShuffle kShuffle>
+[[gnu::always_inline]] inline Point2 PaddedSobolSampler::value_2d(int d) const {
+    auto i = std::size_t(d);
+#if defined(SR_SOBOL_SSE4)
+    if (kShuffle == SobolIndexShuffle::kNestedUniform && m_split_pascal) {
+        // The shuffled index on an SSE register (as in nested_sobol_1d_float), its dimension-1
+        // digits from the table into lane 1.
+        __m128i v = detail::laine_karras_epi32(_mm_cvtsi32_si128(int32_t(m_reversed_index)),
+                                               _mm_cvtsi32_si128(int32_t(m_index_key[i])));
+        v = detail::reverse_bits_epi32(v);
+        auto a = uint32_t(_mm_cvtsi128_si32(v));
+        v = _mm_insert_epi32(v, int32_t(m_high_pascal[i] ^ kPascal8[a & m_low_mask]), 1);
+        return detail::sobol_2d_float_epi32(v, m_randomize, m_scramble_key[i]);
+    }
+#endif
+    uint32_t a = shuffled_index<kShuffle>(d);
+    uint32_t y_digits = m_split_pascal ? m_high_pascal[i] ^ kPascal8[a & m_low_mask]
+                                       : uint32_t(pascal_mod2_transform(a));
+    return sobol_2d_float(a, y_digits, m_randomize, m_scramble_key[i]);
 }
 
 std::unique_ptr<Sampler> PaddedSobolSampler::clone() const {

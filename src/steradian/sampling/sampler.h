@@ -3,9 +3,11 @@
 ///
 /// Contract (ARCHITECTURE.md Sec. 3): every value is a pure function of (pixel, sample index,
 /// dimension, seed). A sampler holds no state that survives start_pixel_sample() except its
-/// configuration, so images do not depend on the number of threads, on the order in which
-/// pixels are visited, or on how work is scheduled. A Sampler object is not thread-safe:
-/// each worker clone()s its own.
+/// configuration and memoized values that are themselves pure functions of (pixel, dimension,
+/// seed) (the Sobol samplers keep the per-dimension keys of the current pixel, so consecutive
+/// samples of one pixel reuse them), so images do not depend on the number of threads, on the
+/// order in which pixels are visited, or on how work is scheduled. A Sampler object is not
+/// thread-safe: each worker clone()s its own.
 ///
 /// Dimensions: the first kPixelDimensions = 2 dimensions of every pixel sample are reserved for
 /// the film-plane offset returned by get_pixel_2d(). get_1d() consumes one further dimension
@@ -13,6 +15,14 @@
 /// start_pixel_sample(). Consumers (camera lens, wavelengths, BSDF and light samples) must
 /// request dimensions in a fixed order per path vertex so that the same sample of the same
 /// pixel always sees the same numbers.
+///
+/// Low-discrepancy samplers (ZSobolSampler, PaddedSobolSampler) use their construction for
+/// the first kLowDiscrepancyDimensions dimensions (counting the pixel dimensions; a get_2d()
+/// counts as low-discrepancy if its first dimension does). Later dimensions, reached only by
+/// long paths, are hashed pseudo-random numbers: the splitmix64 stream of a key hashed from
+/// (pixel, sample index, seed), read at the dimension. Quasi-Monte Carlo gains nothing
+/// measurable that deep in a path, and this keeps every dimension a cheap pure function of
+/// (pixel, sample index, dimension, seed).
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -23,6 +33,11 @@
 #include "steradian/sampling/sobol.h"
 
 namespace sr {
+
+/// Dimensions [0, kLowDiscrepancyDimensions) of a pixel sample are low-discrepancy in the
+/// Sobol-type samplers; later ones are hashed pseudo-random (see the file comment). 64 covers
+/// the camera's 5 dimensions and 11 path vertices of 5 dimensions each.
+inline constexpr int kLowDiscrepancyDimensions = 64;
 
 class Sampler {
   public:
@@ -119,17 +134,36 @@ class StratifiedSampler final : public Sampler {
 /// Sobol (0,2)-sequence, with 2^m = samples_per_pixel rounded up to a power of two. Hence every
 /// pixel's first 2^m samples form a (0,m,2)-net, and so does the union of every aligned
 /// 2x2, 4x4, ... block of pixels: the error is distributed as blue noise across the screen.
-/// The base-4 digits of the index are shuffled by per-level random permutations of {0,1,2,3}
-/// hashed from the higher digits, the dimension and the seed (a nested, i.e. Owen-style, shuffle
-/// that keeps blocks aligned), and each dimension pair's point is scrambled (default: Burley's
-/// hash-based Owen scrambling) with a key hashed from the dimension and seed.
+/// The base-4 digits of the index are shuffled per dimension, keeping blocks aligned (a nested
+/// shuffle), and each dimension pair's point is scrambled (default: Burley's hash-based Owen
+/// scrambling) with a key hashed from the dimension and seed:
+///   - the sample digits and the lowest kHashedPixelLevels pixel levels (2x2 up to 16x16
+///     blocks) by per-node random permutations of {0,1,2,3} hashed from the higher digits, the
+///     dimension and the seed (Owen-style, as in the paper and pbrt-v4);
+///   - the digits above (the position of the 16x16 block) by XOR with a per-dimension random
+///     constant. These digits only choose which aligned block of the sequence each 16x16 block
+///     of pixels uses: any choice keeps every net (per pixel and per aligned block of pixels),
+///     and the pixel's points are decorrelated across dimensions and from its neighbours by the
+///     hashed levels below (whose nodes include these digits) and the scrambling. Per-node
+///     permutations here would only shuffle the arrangement of whole 16x16 blocks, at a cost
+///     that grows with the resolution.
 /// Every get_1d() uses Sobol dimension 0, every get_2d() Sobol dimensions 0 and 1: the padding
 /// of pbrt-v4, decorrelated across dimensions by the shuffles and scramblings.
+/// Dimensions from kLowDiscrepancyDimensions on are hashed pseudo-random numbers.
 /// Requires sample_index < samples_per_pixel() (larger indices would alias into the next
 /// pixel's block) and pixels inside the resolution given here (others still work but lose the
 /// screen-space structure).
+///
+/// Cost: everything that depends on (pixel, dimension, seed) only -- the shuffled pixel digits,
+/// the permutation of the highest sample digit (its node is the pixel) and their Sobol
+/// dimension-1 digits -- is computed once per pixel and dimension and reused by the pixel's
+/// further samples (the renderer visits a pixel's samples consecutively within each pass); a
+/// get then hashes the remaining sample digits (2 multiplies at 64 spp) and scrambles.
 class ZSobolSampler final : public Sampler {
   public:
+    /// Pixel levels (from 2x2 blocks up) whose digits get per-node hashed permutations.
+    static constexpr int kHashedPixelLevels = 4;
+
     /// resolution: the film's pixel count (x, y); pixels should lie in [0, resolution).
     ZSobolSampler(int samples_per_pixel, Vec2i resolution, uint64_t seed = 0,
                   Randomization randomize = Randomization::kOwen);
@@ -140,22 +174,80 @@ class ZSobolSampler final : public Sampler {
     std::unique_ptr<Sampler> clone() const override;
     std::string name() const override { return "zsobol"; }
 
-    /// The shuffled global Sobol index of the current pixel sample for `dimension`.
+    /// The shuffled global Sobol index of the current pixel sample for `dimension`, computed
+    /// from scratch (the values of dimensions < kLowDiscrepancyDimensions are the randomized
+    /// Sobol points of these indices).
     uint64_t sobol_index(int dimension) const;
 
   private:
-    Point2 sample_2d(int dimension) const;
+    static constexpr int kMaxDigits = 32;  // base-4 digits of a 64-bit index
+
+    Point2 sample_2d(int dimension);
+    // Kernels of get_1d() and sample_2d() for dimension d < kLowDiscrepancyDimensions,
+    // specialized on log2(samples per pixel) (kLog2Spp < 0: any m > 8).
+    using Get1dFn = Float (*)(ZSobolSampler&, int);
+    using Sample2dFn = Point2 (*)(ZSobolSampler&, int);
+    void select_kernels();
+    template <int kLog2Spp>
+    static Float get_1d_impl(ZSobolSampler& s, int d);
+    template <int kLog2Spp>
+    static Float fill_and_get_1d(ZSobolSampler& s, int d);
+    template <int kLog2Spp>
+    Float value_1d(int d) const;
+    template <int kLog2Spp>
+    static Point2 sample_2d_impl(ZSobolSampler& s, int d);
+    template <int kLog2Spp>
+    static Point2 fill_and_sample_2d(ZSobolSampler& s, int d);
+    template <int kLog2Spp>
+    Point2 value_2d(int d) const;
+    /// The shuffled sample digits (the low m bits of the index) for a dimension's key, given
+    /// the permutation of the highest sample digit (top_sample_choice()). kLog2Spp < 0: m from
+    /// m_log2_spp.
+    template <int kLog2Spp>
+    uint64_t sample_digits(uint64_t dim_key, uint8_t top_choice) const;
+    /// Computes and memoizes the per-(pixel, dimension) values of dimension d.
+    void fill_pixel_dimension(int d);
+    /// The shuffled digits above the sample digits (pixel digits and bits above them).
+    uint64_t pixel_digits(uint64_t dim_key, uint64_t dim_xor) const;
+    /// The permutation (or, for a single-bit digit, the flip) of the highest sample digit.
+    uint8_t top_sample_choice(uint64_t dim_key) const;
     uint64_t dimension_key(int dimension) const {
         return hash_combine(m_seed_key, uint64_t(dimension));
     }
+    uint64_t dimension_xor(uint64_t dim_key) const {
+        return mix_bits(dim_key + kGolden64) & m_xor_mask;
+    }
 
+    // Configuration.
+    uint64_t m_seed;
     uint64_t m_seed_key;
     Randomization m_randomize;
     int m_log2_spp;
     int m_num_base4_digits;
-    uint64_t m_morton_index = 0;
+    int m_num_sample_digits;  // ceil(m / 2): the digits below the pixel digits
+    int m_hashed_digits_end;  // digits [m_num_sample_digits, this) are hashed pixel digits
+    uint64_t m_xor_mask = 0;  // the index bits of the digits shuffled by XOR
+    std::array<uint64_t, kLowDiscrepancyDimensions> m_dim_key{};       // dimension_key(d)
+    std::array<uint64_t, kLowDiscrepancyDimensions> m_scramble_key{};  // point scrambling key
+    Get1dFn m_get_1d_fn = nullptr;
+    Sample2dFn m_sample_2d_fn = nullptr;
+
+    // Current pixel; memoized per-dimension values.
+    bool m_have_pixel = false;
+    Vec2i m_pixel{0, 0};
+    uint64_t m_pixel_key = 0;        // hash(pixel, seed), for the hashed dimensions
+    uint64_t m_pixel_index = 0;      // morton(pixel) << m
     uint64_t m_index_high_bits = 0;  // Morton bits above the permuted digits (pixels off-film)
-    std::array<uint64_t, 32> m_node_hash{};  // per base-4 digit: hash of the digits above it
+    uint64_t m_prefix_valid = 0;     // bit d: the values of dimension d are filled
+    std::array<uint64_t, kLowDiscrepancyDimensions> m_prefix{};         // pixel_digits()
+    std::array<uint32_t, kLowDiscrepancyDimensions> m_prefix_pascal{};  // their dim-1 digits
+    std::array<uint8_t, kLowDiscrepancyDimensions> m_top_choice{};      // top_sample_choice()
+
+    // Current pixel sample.
+    uint64_t m_morton_index = 0;
+    uint64_t m_sample_key = 0;                       // key of the hashed dimensions
+    std::array<uint64_t, kMaxDigits> m_node_hash{};  // per base-4 digit: hash of the digits above
+    std::array<const uint8_t*, kMaxDigits> m_sample_column{};  // per sample digit: its images
     int m_dimension = kPixelDimensions;
 };
 
@@ -172,6 +264,8 @@ enum class SobolIndexShuffle {
 /// scrambled, both with keys hashed from (pixel, dimension, seed). For samples_per_pixel =
 /// 2^m, each pixel's samples form a (0,m,2)-net in every dimension pair (and are stratified in
 /// every single dimension); different pixels and dimension pairs are decorrelated.
+/// Dimensions from kLowDiscrepancyDimensions on are hashed pseudo-random numbers. The keys of
+/// the current pixel are memoized per dimension (they do not depend on the sample index).
 class PaddedSobolSampler final : public Sampler {
   public:
     PaddedSobolSampler(int samples_per_pixel, uint64_t seed = 0,
@@ -186,14 +280,56 @@ class PaddedSobolSampler final : public Sampler {
     std::string name() const override;
 
   private:
-    uint32_t shuffled_index(uint64_t key) const;
-    Point2 sample_2d(int dimension) const;
+    /// The shuffled sample index for dimension d < kLowDiscrepancyDimensions (keys filled).
+    template <SobolIndexShuffle kShuffle>
+    uint32_t shuffled_index(int d) const;
+    /// Computes and memoizes the keys of dimension d for the current pixel.
+    void fill_keys(int d);
+    Point2 sample_2d(int dimension);
+    // Kernels of get_1d() and sample_2d() for dimension d < kLowDiscrepancyDimensions,
+    // specialized on the index shuffle.
+    using Get1dFn = Float (*)(PaddedSobolSampler&, int);
+    using Sample2dFn = Point2 (*)(PaddedSobolSampler&, int);
+    void select_kernels();
+    template <SobolIndexShuffle kShuffle>
+    static Float get_1d_impl(PaddedSobolSampler& s, int d);
+    template <SobolIndexShuffle kShuffle>
+    static Float fill_and_get_1d(PaddedSobolSampler& s, int d);
+    template <SobolIndexShuffle kShuffle>
+    Float value_1d(int d) const;
+    template <SobolIndexShuffle kShuffle>
+    static Point2 sample_2d_impl(PaddedSobolSampler& s, int d);
+    template <SobolIndexShuffle kShuffle>
+    static Point2 fill_and_sample_2d(PaddedSobolSampler& s, int d);
+    template <SobolIndexShuffle kShuffle>
+    Point2 value_2d(int d) const;
 
+    // Configuration.
     uint64_t m_seed;
     SobolIndexShuffle m_shuffle;
     Randomization m_randomize;
+    int m_log2_spp;               // ceil(log2(samples per pixel))
+    uint32_t m_low_mask;          // 2^m - 1
+    uint32_t m_permutation_mask;  // permutation_mask(samples per pixel)
+    Get1dFn m_get_1d_fn = nullptr;
+    Sample2dFn m_sample_2d_fn = nullptr;
+
+    // Current pixel; memoized per-dimension keys.
+    bool m_have_pixel = false;
+    Vec2i m_pixel{0, 0};
     uint64_t m_pixel_key = 0;
+    uint64_t m_keys_valid = 0;  // bit d: the keys of dimension d are filled
+    std::array<uint32_t, kLowDiscrepancyDimensions> m_index_key{};     // index shuffle seed
+    std::array<uint64_t, kLowDiscrepancyDimensions> m_scramble_key{};  // point scrambling key
+    // Sobol dimension-1 digits of the shuffled index's bits above the low m bits (the same for
+    // all sample indices < 2^m).
+    std::array<uint32_t, kLowDiscrepancyDimensions> m_high_pascal{};
+
+    // Current pixel sample.
     int m_sample_index = 0;
+    uint32_t m_reversed_index = 0;  // reverse_bits32(sample index)
+    bool m_split_pascal = false;    // sample index < 2^m <= 256: use m_high_pascal and a table
+    uint64_t m_sample_key = 0;      // key of the hashed dimensions
     int m_dimension = kPixelDimensions;
 };
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "steradian/core/error.h"
+#include "steradian/sampling/hash.h"
 #include "steradian/sampling/rng.h"
 #include "steradian/sampling/stats.h"
 #include "steradian/sampling/test_util.h"
@@ -379,6 +380,214 @@ TEST(Sampler, ZSobolIndexKeepsPixelBlocks) {
             EXPECT_EQ(std::unique(idx.begin(), idx.end()), idx.end());
             EXPECT_EQ(idx.front() >> 5, idx.back() >> 5);
             EXPECT_EQ(idx.back() - idx.front(), 31u);
+        }
+    }
+}
+
+TEST(Sampler, ZSobolBlocksAboveTheHashedLevelsFormNets) {
+    // The digits above ZSobolSampler::kHashedPixelLevels are shuffled by XOR: aligned blocks of
+    // 32x32 and 64x64 pixels (beyond the hashed 16x16 levels) still form nets.
+    for (auto [spp, block] : {std::pair{1, 32}, std::pair{4, 32}, std::pair{1, 64}}) {
+        ZSobolSampler s(spp, {512, 512}, 5);
+        for (Vec2i origin : {Vec2i{0, 0}, Vec2i{64, 128}, Vec2i{448, 448}}) {
+            std::vector<Point2> pixel_pts, lens_pts;
+            for (int y = 0; y < block; ++y) {
+                for (int x = 0; x < block; ++x) {
+                    for (int i = 0; i < spp; ++i) {
+                        s.start_pixel_sample({origin.x + x, origin.y + y}, i);
+                        pixel_pts.push_back(s.get_pixel_2d());
+                        s.get_1d();
+                        lens_pts.push_back(s.get_2d());
+                    }
+                }
+            }
+            EXPECT_EQ(testing::check_02_net(pixel_pts), "") << "spp " << spp << " block " << block;
+            EXPECT_EQ(testing::check_02_net(lens_pts), "") << "spp " << spp << " block " << block;
+        }
+    }
+}
+
+TEST(Sampler, ZSobolValuesArePointsOfTheShuffledIndex) {
+    // The samplers memoize per-pixel parts of the index; sobol_index() computes it from scratch.
+    // Without randomization the values are the Sobol points of that index exactly.
+    for (Vec2i res :
+         {Vec2i{64, 48}, Vec2i{512, 512}, Vec2i{1, 1}, Vec2i{3, 700}, Vec2i{1 << 28, 3}}) {
+        for (int spp : {1, 2, 3, 8, 16, 64, 256, 512, 2048}) {
+            if (res.x == 1 << 28 && spp > 256) continue;  // 64-bit indices at most
+            ZSobolSampler s(spp, res, 9, Randomization::kNone);
+            for (Vec2i p :
+                 {Vec2i{0, 0}, Vec2i{res.x - 1, res.y - 1}, Vec2i{res.x / 2, res.y / 3}}) {
+                for (int i = 0; i < spp; i += std::max(1, spp / 16)) {
+                    s.start_pixel_sample(p, i);
+                    uint64_t a0 = s.sobol_index(0);
+                    Point2 pp = s.get_pixel_2d();
+                    ASSERT_EQ(pp.x, u32_to_unit_float(sobol_u32_dim0(a0)));
+                    ASSERT_EQ(pp.y, u32_to_unit_float(sobol_u32_dim1(a0)));
+                    int d = Sampler::kPixelDimensions;
+                    while (d < kLowDiscrepancyDimensions - 1) {
+                        uint64_t a = s.sobol_index(d);
+                        if (d % 3 == 0) {
+                            Point2 q = s.get_2d();
+                            ASSERT_EQ(q.x, u32_to_unit_float(sobol_u32_dim0(a)))
+                                << "spp " << spp << " dim " << d;
+                            ASSERT_EQ(q.y, u32_to_unit_float(sobol_u32_dim1(a)))
+                                << "spp " << spp << " dim " << d;
+                            d += 2;
+                        } else {
+                            ASSERT_EQ(s.get_1d(), u32_to_unit_float(sobol_u32_dim0(a)))
+                                << "spp " << spp << " dim " << d;
+                            d += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(Sampler, PaddedSobolValuesFollowBurleysConstruction) {
+    // Dimension d of sample i of a pixel: key = hash_combine(hash(pixel, seed), d); the index
+    // shuffled with the low 32 bits of the key, the point randomized with mix_bits(key). The
+    // samplers memoize keys and split the Sobol digits; this pins them to the definition.
+    for (auto shuffle : {SobolIndexShuffle::kNestedUniform, SobolIndexShuffle::kPermutation}) {
+        for (Randomization r : {Randomization::kOwen, Randomization::kXor, Randomization::kNone}) {
+            for (int spp : {1, 2, 12, 16, 64, 512}) {
+                const uint64_t seed = 31;
+                PaddedSobolSampler s(spp, seed, shuffle, r);
+                for (Vec2i p : {Vec2i{0, 0}, Vec2i{17, 5}, Vec2i{-3, 1000}}) {
+                    uint64_t pixel_key = hash(p, seed);
+                    for (int i = 0; i < spp; i += std::max(1, spp / 16)) {
+                        auto point = [&](int d) {
+                            uint64_t key = hash_combine(pixel_key, uint64_t(d));
+                            uint32_t a = shuffle == SobolIndexShuffle::kNestedUniform
+                                             ? nested_uniform_shuffle(uint32_t(i), uint32_t(key))
+                                             : permutation_element(uint32_t(i), uint32_t(spp),
+                                                                   uint32_t(key));
+                            uint64_t scramble = mix_bits(key);
+                            return Point2{u32_to_unit_float(
+                                              randomize(sobol_u32_dim0(a), r, uint32_t(scramble))),
+                                          u32_to_unit_float(randomize(sobol_u32_dim1(a), r,
+                                                                      uint32_t(scramble >> 32)))};
+                        };
+                        s.start_pixel_sample(p, i);
+                        ASSERT_EQ(s.get_pixel_2d(), point(0));
+                        int d = Sampler::kPixelDimensions;
+                        while (d < kLowDiscrepancyDimensions - 1) {
+                            if (d % 3 == 0) {
+                                ASSERT_EQ(s.get_2d(), point(d)) << "spp " << spp << " dim " << d;
+                                d += 2;
+                            } else {
+                                ASSERT_EQ(s.get_1d(), point(d).x) << "spp " << spp << " dim " << d;
+                                d += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(Sampler, HashedDimensionsAreDeterministicUniformAndDecorrelated) {
+    // From kLowDiscrepancyDimensions on, the Sobol-type samplers return hashed pseudo-random
+    // numbers: still a pure function of (pixel, sample index, dimension, seed), uniform, and
+    // independent across dimensions and pixels.
+    for (const Config& c : all_configs()) {
+        if (!c.net) continue;
+        const int spp = 16;
+        auto s = c.make(spp, 21);
+        auto tail = [&](Sampler& smp, Vec2i p, int i, int first_dimension) {
+            smp.start_pixel_sample(p, i, first_dimension);
+            std::vector<Float> v;
+            for (int k = 0; k < 8; ++k) v.push_back(smp.get_1d());
+            Point2 q = smp.get_2d();
+            v.push_back(q.x);
+            v.push_back(q.y);
+            return v;
+        };
+        // Deterministic: the same values whether reached through all earlier dimensions or by
+        // the dimension argument, from a clone, and in any order.
+        const int first = kLowDiscrepancyDimensions + 3 - Sampler::kPixelDimensions;
+        auto clone = s->clone();
+        for (Vec2i p : {Vec2i{3, 4}, Vec2i{0, 0}, Vec2i{50, 7}}) {
+            for (int i : {0, 5, 15}) {
+                s->start_pixel_sample(p, i);
+                for (int k = 0; k < first; ++k) s->get_1d();
+                std::vector<Float> sequential;
+                for (int k = 0; k < 8; ++k) sequential.push_back(s->get_1d());
+                Point2 q = s->get_2d();
+                sequential.push_back(q.x);
+                sequential.push_back(q.y);
+                EXPECT_EQ(tail(*clone, p, i, first), sequential) << c.label;
+                EXPECT_EQ(tail(*s, p, i, first), sequential) << c.label;
+            }
+        }
+        // Uniform: 1D histogram (64 bins) of 8 dimensions and 2D histogram (16 x 16) of a pair,
+        // over 32 x 32 pixels; means; correlation of consecutive dimensions and of neighbours.
+        const int bins = 64, bins2 = 16;
+        std::vector<double> h1(bins, 0.0), h2(bins2 * bins2, 0.0);
+        std::vector<double> a, b, left, right;
+        double sum = 0;
+        int n = 0;
+        for (int y = 0; y < 32; ++y) {
+            for (int x = 0; x < 32; ++x) {
+                for (int i = 0; i < spp; ++i) {
+                    std::vector<Float> v = tail(*s, {x, y}, i, first);
+                    for (int k = 0; k < 8; ++k) {
+                        ASSERT_GE(v[std::size_t(k)], 0.0f);
+                        ASSERT_LT(v[std::size_t(k)], 1.0f);
+                        h1[std::size_t(v[std::size_t(k)] * bins)] += 1;
+                        sum += v[std::size_t(k)];
+                        ++n;
+                    }
+                    h2[std::size_t(int(v[9] * bins2) * bins2 + int(v[8] * bins2))] += 1;
+                    a.push_back(v[0]);
+                    b.push_back(v[1]);
+                    if (x % 2 == 0) {
+                        left.push_back(v[2]);
+                        right.push_back(tail(*s, {x + 1, y}, i, first)[2]);
+                    }
+                }
+            }
+        }
+        std::vector<double> e1(h1.size(), double(n) / bins);
+        std::vector<double> e2(h2.size(), double(a.size()) / (bins2 * bins2));
+        EXPECT_GT(chi2_test(h1, e1).p_value, kAlpha) << c.label;
+        EXPECT_GT(chi2_test(h2, e2).p_value, kAlpha) << c.label;
+        EXPECT_GT(z_test_p(sum / n, 0.5, std::sqrt(1.0 / 12 / n)), kAlpha) << c.label;
+        auto correlation = [](const std::vector<double>& u, const std::vector<double>& w) {
+            double m = double(u.size()), mu = 0, mw = 0;
+            for (std::size_t i = 0; i < u.size(); ++i) mu += u[i], mw += w[i];
+            mu /= m;
+            mw /= m;
+            double suw = 0, suu = 0, sww = 0;
+            for (std::size_t i = 0; i < u.size(); ++i) {
+                suw += (u[i] - mu) * (w[i] - mw);
+                suu += (u[i] - mu) * (u[i] - mu);
+                sww += (w[i] - mw) * (w[i] - mw);
+            }
+            return suw / std::sqrt(suu * sww);
+        };
+        double r1 = correlation(a, b), r2 = correlation(left, right);
+        EXPECT_GT(normal_two_sided_p(r1 * std::sqrt(double(a.size()))), kAlpha) << c.label;
+        EXPECT_GT(normal_two_sided_p(r2 * std::sqrt(double(left.size()))), kAlpha) << c.label;
+    }
+}
+
+TEST(Sampler, LastLowDiscrepancyPairIsStillANet) {
+    // A get_2d() whose first dimension is kLowDiscrepancyDimensions - 2 (the last full pair)
+    // is low-discrepancy; the next dimensions are hashed.
+    for (const Config& c : all_configs()) {
+        if (!c.net) continue;
+        for (int spp : {16, 64}) {
+            auto s = c.make(spp, 8);
+            std::vector<Point2> pts;
+            for (int i = 0; i < spp; ++i) {
+                s->start_pixel_sample({6, 2}, i,
+                                      kLowDiscrepancyDimensions - 2 - Sampler::kPixelDimensions);
+                pts.push_back(s->get_2d());
+            }
+            EXPECT_EQ(testing::check_02_net(pts), "") << c.label << " spp " << spp;
         }
     }
 }

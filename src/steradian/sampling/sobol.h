@@ -11,10 +11,18 @@
 /// (0,m,2)-net, i.e. each elementary interval [a 2^-p, (a+1) 2^-p) x [b 2^-q, (b+1) 2^-q) with
 /// p + q = m holds exactly one point (Niederreiter 1992, "Random Number Generation and
 /// Quasi-Monte Carlo Methods", Ch. 4).
+#include <bit>
 #include <cstdint>
 #include <string>
 
+#if defined(__SSE4_1__) && defined(__SSSE3__) && defined(__x86_64__)
+#include <smmintrin.h>
+#define SR_SOBOL_SSE4 1
+#endif
+
+#include "steradian/core/math.h"
 #include "steradian/sampling/hash.h"
+#include "steradian/sampling/rng.h"
 
 namespace sr {
 
@@ -83,6 +91,102 @@ constexpr uint32_t randomize(uint32_t v, Randomization r, uint32_t seed) {
             return owen_scramble(v, seed);
     }
     return v;
+}
+
+// ---- Randomized points as Floats (the samplers' inner loop) ------------------------------------
+
+#if defined(SR_SOBOL_SSE4)
+namespace detail {
+
+/// reverse_bits32 of each 32-bit lane: a byte swap and two 16-entry nibble-reversal lookups.
+inline __m128i reverse_bits_epi32(__m128i v) {
+    const __m128i nibble = _mm_set1_epi8(0x0f);
+    // Reversed nibble n, placed in the high (rev_to_high) or low (rev_to_low) half of a byte.
+    const __m128i rev_to_high =
+        _mm_setr_epi8(0x00, char(0x80), 0x40, char(0xc0), 0x20, char(0xa0), 0x60, char(0xe0), 0x10,
+                      char(0x90), 0x50, char(0xd0), 0x30, char(0xb0), 0x70, char(0xf0));
+    const __m128i rev_to_low = _mm_setr_epi8(0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5,
+                                             0xd, 0x3, 0xb, 0x7, 0xf);
+    const __m128i byte_swap = _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
+    v = _mm_shuffle_epi8(v, byte_swap);
+    __m128i lo = _mm_and_si128(v, nibble);
+    __m128i hi = _mm_and_si128(_mm_srli_epi16(v, 4), nibble);
+    return _mm_or_si128(_mm_shuffle_epi8(rev_to_high, lo), _mm_shuffle_epi8(rev_to_low, hi));
+}
+
+/// laine_karras_permutation of each 32-bit lane with that lane's seed.
+inline __m128i laine_karras_epi32(__m128i x, __m128i seed) {
+    __m128i mul = _mm_or_si128(_mm_srli_epi32(seed, 16), _mm_set1_epi32(1));
+    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(0x3d20adea)));
+    x = _mm_add_epi32(x, seed);
+    x = _mm_mullo_epi32(x, mul);
+    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(0x05526c56)));
+    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(0x53a22864)));
+    return x;
+}
+
+/// u32_to_unit_float of lanes 0 and 1: exact unsigned -> double conversion (sign flip, signed
+/// conversion, + 2^31), truncation to 24 significant bits, exact double -> float.
+inline __m128 unit_float_epi32x2(__m128i v) {
+    __m128d d = _mm_cvtepi32_pd(_mm_xor_si128(v, _mm_set1_epi32(int32_t(0x80000000u))));
+    d = _mm_add_pd(d, _mm_set1_pd(2147483648.0));
+    d = _mm_and_pd(d, _mm_castsi128_pd(_mm_set1_epi64x(~int64_t(0x1fffffff))));
+    return _mm_cvtpd_ps(_mm_mul_pd(d, _mm_set1_pd(0x1p-32)));  // exact: a power of two
+}
+
+/// Lanes 0 and 1 as a Point2 (which is returned in the low half of a register anyway).
+inline Point2 to_point2(__m128 f) {
+    static_assert(sizeof(Point2) == 8);
+    return std::bit_cast<Point2>(_mm_cvtsi128_si64(_mm_castps_si128(f)));
+}
+
+/// sobol_2d_float with (a, y_digits) in lanes 0 and 1 of v.
+inline Point2 sobol_2d_float_epi32(__m128i v, Randomization r, uint64_t key) {
+    __m128i k = _mm_cvtsi64_si128(int64_t(key));
+    if (r == Randomization::kOwen) v = laine_karras_epi32(v, k);
+    v = reverse_bits_epi32(v);
+    if (r == Randomization::kXor) v = _mm_xor_si128(v, k);
+    return to_point2(unit_float_epi32x2(v));
+}
+
+}  // namespace detail
+#endif
+
+/// u32_to_unit_float(randomize(sobol_u32_dim0(a), r, seed)) with a single bit reversal (Owen
+/// scrambling of the radical inverse is the reversal of a Laine-Karras permutation of a); the
+/// reversal and conversion on an SSE register where available (fewer instructions).
+inline Float sobol_1d_float(uint32_t a, Randomization r, uint32_t seed) {
+    if (r == Randomization::kOwen) a = laine_karras_permutation(a, seed);
+#if defined(SR_SOBOL_SSE4)
+    __m128i v = detail::reverse_bits_epi32(_mm_cvtsi32_si128(int32_t(a)));
+    if (r == Randomization::kXor) v = _mm_xor_si128(v, _mm_cvtsi32_si128(int32_t(seed)));
+    return _mm_cvtss_f32(detail::unit_float_epi32x2(v));
+#else
+    uint32_t v = reverse_bits32(a);
+    if (r == Randomization::kXor) v ^= seed;
+    return u32_to_unit_float(v);
+#endif
+}
+
+/// {u32_to_unit_float(randomize(sobol_u32_dim0(a), r, uint32_t(key))),
+///  u32_to_unit_float(randomize(sobol_u32_dim1(a), r, uint32_t(key >> 32)))}, given the low 32
+/// bits of a and y_digits = uint32_t(pascal_mod2_transform(a)) (which depends on all of a).
+/// Both coordinates are scrambled, reversed and converted together (SSE4.1 lanes where
+/// available, one 64-bit reversal otherwise).
+inline Point2 sobol_2d_float(uint32_t a, uint32_t y_digits, Randomization r, uint64_t key) {
+#if defined(SR_SOBOL_SSE4)
+    return detail::sobol_2d_float_epi32(_mm_cvtsi64_si128(int64_t((uint64_t(y_digits) << 32) | a)),
+                                        r, key);
+#else
+    uint32_t x = a, y = y_digits;
+    if (r == Randomization::kOwen) {
+        x = laine_karras_permutation(x, uint32_t(key));
+        y = laine_karras_permutation(y, uint32_t(key >> 32));
+    }
+    uint64_t v = reverse_bits64((uint64_t(x) << 32) | y);  // low half: x reversed, high: y
+    if (r == Randomization::kXor) v ^= key;
+    return {u32_to_unit_float(uint32_t(v)), u32_to_unit_float(uint32_t(v >> 32))};
+#endif
 }
 
 }  // namespace sr
