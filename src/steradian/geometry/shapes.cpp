@@ -138,65 +138,62 @@ Float angle_between(Vec3 v1, Vec3 v2) {
 /// v minus its component along unit w.
 Vec3 gram_schmidt(Vec3 v, Vec3 w) { return v - w * dot(v, w); }
 
-/// Arvo's (1995) area-preserving map from [0,1)^2 to the spherical triangle with unit
-/// vertices a, b, c: u.x chooses the sub-triangle area, u.y the point along the arc from b.
-/// Returns the unit direction and the spherical area (the pdf is 1/area), or area 0.
-Vec3 sample_spherical_triangle(Vec3 a, Vec3 b, Vec3 c, Point2 u, Float& area) {
-    area = 0;
-    Vec3 n_ab = cross(a, b), n_bc = cross(b, c), n_ca = cross(c, a);
-    if (length_squared(n_ab) == 0 || length_squared(n_bc) == 0 || length_squared(n_ca) == 0)
-        return {};
-    n_ab = normalize(n_ab);
-    n_bc = normalize(n_bc);
-    n_ca = normalize(n_ca);
-    // Interior angles of the spherical triangle at a, b, c.
-    Float alpha = angle_between(n_ab, -n_ca);
-    Float beta = angle_between(n_bc, -n_ab);
-    Float gamma = angle_between(n_ca, -n_bc);
-    Float a_pi = alpha + beta + gamma;  // area + pi (Girard's theorem)
-    area = a_pi - kPi;
-    if (!(area > 0)) {
-        area = 0;
-        return {};
+/// The spherical triangle with unit vertices a, b, c: its interior angles and its area
+/// (Girard's theorem: alpha + beta + gamma - pi), 0 if degenerate.
+struct SphericalTriangle {
+    Vec3 a, b, c;
+    Float alpha = 0, area = 0;
+    SphericalTriangle(Vec3 a_, Vec3 b_, Vec3 c_) : a(a_), b(b_), c(c_) {
+        Vec3 n_ab = cross(a, b), n_bc = cross(b, c), n_ca = cross(c, a);
+        if (length_squared(n_ab) == 0 || length_squared(n_bc) == 0 || length_squared(n_ca) == 0)
+            return;
+        n_ab = normalize(n_ab);
+        n_bc = normalize(n_bc);
+        n_ca = normalize(n_ca);
+        alpha = angle_between(n_ab, -n_ca);
+        Float beta = angle_between(n_bc, -n_ab);
+        Float gamma = angle_between(n_ca, -n_bc);
+        area = std::max(Float(0), alpha + beta + gamma - kPi);
     }
-    // The sub-triangle (a, b, c') of area u.x * area: find c' on the arc from a to c.
-    Float ap_pi = lerp(u.x, kPi, a_pi);
-    Float cos_alpha = std::cos(alpha), sin_alpha = std::sin(alpha);
-    Float sin_phi = std::sin(ap_pi) * cos_alpha - std::cos(ap_pi) * sin_alpha;
-    Float cos_phi = std::cos(ap_pi) * cos_alpha + std::sin(ap_pi) * sin_alpha;
-    Float k1 = cos_phi + cos_alpha;
-    Float k2 = sin_phi - sin_alpha * dot(a, b);
-    Float cos_bp = (k2 + (k2 * cos_phi - k1 * sin_phi) * cos_alpha) /
-                   ((k2 * sin_phi + k1 * cos_phi) * sin_alpha);
-    cos_bp = clamp(cos_bp, Float(-1), Float(1));
-    Float sin_bp = safe_sqrt(1 - sqr(cos_bp));
-    Vec3 cp = a * cos_bp + normalize(gram_schmidt(c, a)) * sin_bp;
-    // A point on the arc from b towards c', uniform in the sub-triangle's area.
-    Float cos_theta = 1 - u.y * (1 - dot(cp, b));
-    Float sin_theta = safe_sqrt(1 - sqr(cos_theta));
-    return b * cos_theta + normalize(gram_schmidt(cp, b)) * sin_theta;
+    /// Arvo's (1995) area-preserving map from [0,1)^2 onto the triangle: u.x chooses the
+    /// area of the sub-triangle (a, b, c'), u.y the point on the arc from b towards c'.
+    Vec3 sample(Point2 u) const {
+        Float ap_pi = lerp(u.x, kPi, area + kPi);
+        Float cos_alpha = std::cos(alpha), sin_alpha = std::sin(alpha);
+        Float s_ap = std::sin(ap_pi), c_ap = std::cos(ap_pi);
+        Float sin_phi = s_ap * cos_alpha - c_ap * sin_alpha;
+        Float cos_phi = c_ap * cos_alpha + s_ap * sin_alpha;
+        Float k1 = cos_phi + cos_alpha;
+        Float k2 = sin_phi - sin_alpha * dot(a, b);
+        Float cos_bp = (k2 + (k2 * cos_phi - k1 * sin_phi) * cos_alpha) /
+                       ((k2 * sin_phi + k1 * cos_phi) * sin_alpha);
+        cos_bp = clamp(cos_bp, Float(-1), Float(1));
+        Float sin_bp = safe_sqrt(1 - sqr(cos_bp));
+        Vec3 cp = a * cos_bp + normalize(gram_schmidt(c, a)) * sin_bp;
+        Float cos_theta = 1 - u.y * (1 - dot(cp, b));
+        Float sin_theta = safe_sqrt(1 - sqr(cos_theta));
+        return b * cos_theta + normalize(gram_schmidt(cp, b)) * sin_theta;
+    }
+};
+
+bool use_spherical(Float omega) {
+    return omega >= TriangleMesh::kMinSphericalSampleArea &&
+           omega <= TriangleMesh::kMaxSphericalSampleArea;
 }
 
 }  // namespace
 
 ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) const {
-    Float omega = solid_angle(i, ref);
-    if (omega < kMinSphericalSampleArea || omega > kMaxSphericalSampleArea) {
-        ShapeSample s = sample_triangle(i, u);
-        s.pdf = area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
-        return s;
-    }
     const auto& P = *p;
     const uint32_t* v = &(*indices)[3 * i];
     Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
-    Float area;
-    Vec3 w = sample_spherical_triangle(normalize(p0 - ref), normalize(p1 - ref),
-                                       normalize(p2 - ref), u, area);
-    if (area == 0) {
+    SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
+    if (!use_spherical(st.area)) {
         ShapeSample s = sample_triangle(i, u);
         s.pdf = area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
         return s;
     }
+    Vec3 w = st.sample(u);
     // Intersect ref + t w with the triangle's plane for barycentrics (Moller-Trumbore).
     Vec3 e1 = p1 - p0, e2 = p2 - p0;
     Vec3 s1 = cross(w, e2);
@@ -212,31 +209,34 @@ ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) c
             b2 /= sum;
         }
     }
-    SurfaceHit h;
-    fill_hit(i, b1, b2, h);
+    Float b0 = 1 - b1 - b2;
     ShapeSample s;
-    s.p = h.p;
-    s.p_error = h.p_error;
-    s.n = h.ng;
-    // Spherical sampling is uniform in solid angle; recompute omega from the same vertex
-    // directions the sampler used, so pdf_triangle_from agrees exactly.
-    s.pdf = 1 / area;
+    s.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
+                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
+                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
+    s.p_error = abs_sum * gamma_bound(6);
+    Vec3 c = cross(e1, e2);
+    Float len = length(c);
+    Normal3 ng = len > 0 ? c / len : Vec3(0, 0, 1);
+    if (flip_normals) ng = -ng;
+    if (n && !n->empty()) {
+        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
+        if (length_squared(ns) > 0) ng = face_forward(ng, ns);
+    }
+    s.n = ng;
+    s.pdf = 1 / st.area;  // uniform in solid angle
     return s;
 }
 
 Float TriangleMesh::pdf_triangle_from(size_t i, Point3 ref, Point3 p_light, Normal3 n_light) const {
-    Float omega = solid_angle(i, ref);
-    if (omega < kMinSphericalSampleArea || omega > kMaxSphericalSampleArea)
-        return area_to_solid_angle_pdf(1 / triangle_area(i), ref, p_light, n_light);
-    // Arvo's area (Girard) and the solid-angle formula agree to rounding; use Girard's, as
-    // the sampler does.
     const auto& P = *p;
     const uint32_t* v = &(*indices)[3 * i];
-    Float area;
-    sample_spherical_triangle(normalize(P[v[0]] - ref), normalize(P[v[1]] - ref),
-                              normalize(P[v[2]] - ref), Point2(0.5f, 0.5f), area);
-    return area > 0 ? 1 / area
-                    : area_to_solid_angle_pdf(1 / triangle_area(i), ref, p_light, n_light);
+    SphericalTriangle st(normalize(P[v[0]] - ref), normalize(P[v[1]] - ref),
+                         normalize(P[v[2]] - ref));
+    if (!use_spherical(st.area))
+        return area_to_solid_angle_pdf(1 / triangle_area(i), ref, p_light, n_light);
+    return 1 / st.area;
 }
 
 // ---- spheres --------------------------------------------------------------------------
