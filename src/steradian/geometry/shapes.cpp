@@ -129,40 +129,37 @@ Float TriangleMesh::solid_angle(size_t i, Point3 ref) const {
 
 namespace {
 
-/// Angle between unit vectors, accurate also for nearly (anti)parallel ones.
-Float angle_between(Vec3 v1, Vec3 v2) {
-    if (dot(v1, v2) < 0) return kPi - 2 * safe_asin(length(v1 + v2) / 2);
-    return 2 * safe_asin(length(v2 - v1) / 2);
-}
-
 /// v minus its component along unit w.
 Vec3 gram_schmidt(Vec3 v, Vec3 w) { return v - w * dot(v, w); }
 
-/// The spherical triangle with unit vertices a, b, c: its interior angles and its area
-/// (Girard's theorem: alpha + beta + gamma - pi), 0 if degenerate.
+/// The spherical triangle with unit vertices a, b, c: its area (the solid angle, by Van
+/// Oosterom & Strackee 1983: tan(area / 2) = |a . (b x c)| / (1 + a.b + b.c + c.a)), and
+/// cos and sin of its interior angle at a (between the great-circle planes through a),
+/// which is all of that angle Arvo's map needs. area = 0 if degenerate.
 struct SphericalTriangle {
     Vec3 a, b, c;
-    Float alpha = 0, area = 0;
+    Float area = 0, cos_alpha = 1, sin_alpha = 0;
     SphericalTriangle(Vec3 a_, Vec3 b_, Vec3 c_) : a(a_), b(b_), c(c_) {
-        Vec3 n_ab = cross(a, b), n_bc = cross(b, c), n_ca = cross(c, a);
-        if (length_squared(n_ab) == 0 || length_squared(n_bc) == 0 || length_squared(n_ca) == 0)
-            return;
-        n_ab = normalize(n_ab);
-        n_bc = normalize(n_bc);
-        n_ca = normalize(n_ca);
-        alpha = angle_between(n_ab, -n_ca);
-        Float beta = angle_between(n_bc, -n_ab);
-        Float gamma = angle_between(n_ca, -n_bc);
-        area = std::max(Float(0), alpha + beta + gamma - kPi);
+        Vec3 n_ab = cross(a, b), n_ac = cross(a, c);
+        Float l_ab = length_squared(n_ab), l_ac = length_squared(n_ac);
+        if (l_ab == 0 || l_ac == 0) return;
+        n_ab = n_ab / std::sqrt(l_ab);
+        n_ac = n_ac / std::sqrt(l_ac);
+        cos_alpha = clamp(dot(n_ab, n_ac), Float(-1), Float(1));
+        sin_alpha = length(cross(n_ab, n_ac));
+        Float num = std::abs(dot(a, cross(b, c)));
+        Float den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
+        area = 2 * std::atan2(num, den);
+        if (!(area > 0) || sin_alpha == 0) area = 0;
     }
     /// Arvo's (1995) area-preserving map from [0,1)^2 onto the triangle: u.x chooses the
-    /// area of the sub-triangle (a, b, c'), u.y the point on the arc from b towards c'.
+    /// area A' = u.x area of the sub-triangle (a, b, c'), u.y the point on the arc from b
+    /// towards c'. (With phi = A' + pi - alpha: sin phi and cos phi expand in A' and alpha.)
     Vec3 sample(Point2 u) const {
-        Float ap_pi = lerp(u.x, kPi, area + kPi);
-        Float cos_alpha = std::cos(alpha), sin_alpha = std::sin(alpha);
-        Float s_ap = std::sin(ap_pi), c_ap = std::cos(ap_pi);
-        Float sin_phi = s_ap * cos_alpha - c_ap * sin_alpha;
-        Float cos_phi = c_ap * cos_alpha + s_ap * sin_alpha;
+        Float s_a = std::sin(u.x * area), c_a = std::cos(u.x * area);
+        // sin(A' + pi) = -sin A', cos(A' + pi) = -cos A'
+        Float sin_phi = -s_a * cos_alpha + c_a * sin_alpha;
+        Float cos_phi = -c_a * cos_alpha - s_a * sin_alpha;
         Float k1 = cos_phi + cos_alpha;
         Float k2 = sin_phi - sin_alpha * dot(a, b);
         Float cos_bp = (k2 + (k2 * cos_phi - k1 * sin_phi) * cos_alpha) /

@@ -38,7 +38,8 @@ struct TriangleMesh {
     Float solid_angle(size_t i, Point3 ref) const;
     /// Samples triangle i as seen from ref: uniformly in solid angle when the triangle
     /// subtends between kMinSphericalSampleArea and kMaxSphericalSampleArea sr (Arvo 1995,
-    /// "Stratified Sampling of Spherical Triangles"; the solid angle from Girard's theorem),
+    /// "Stratified Sampling of Spherical Triangles"; the solid angle by Van Oosterom and
+    /// Strackee 1983),
     /// else uniformly by area. pdf: pdf_sa.
     ShapeSample sample_triangle_from(size_t i, Point3 ref, Point2 u) const;
     /// pdf_sa of sample_triangle_from choosing point p (normal n) on triangle i from ref.
