@@ -92,16 +92,15 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
     h.ng = ng;
 }
 
-ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {
+ShapeSample TriangleMesh::point_at(size_t i, Float b0, Float b1, Float b2) const {
     const auto& P = *p;
     const uint32_t* v = &(*indices)[3 * i];
     Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
-    auto b = sample_uniform_triangle(u);
     ShapeSample s;
-    s.p = p0 * b[0] + p1 * b[1] + p2 * b[2];
-    Vec3 abs_sum{std::abs(b[0] * p0.x) + std::abs(b[1] * p1.x) + std::abs(b[2] * p2.x),
-                 std::abs(b[0] * p0.y) + std::abs(b[1] * p1.y) + std::abs(b[2] * p2.y),
-                 std::abs(b[0] * p0.z) + std::abs(b[1] * p1.z) + std::abs(b[2] * p2.z)};
+    s.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
+                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
+                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
     s.p_error = abs_sum * gamma_bound(6);
     Vec3 c = cross(p1 - p0, p2 - p0);
     Float len = length(c);
@@ -109,12 +108,17 @@ ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {
     if (flip_normals) ng = -ng;
     if (n && !n->empty()) {
         // As fill_hit: the geometric normal faces the interpolated shading normal.
-        Normal3 ns = (*n)[v[0]] * b[0] + (*n)[v[1]] * b[1] + (*n)[v[2]] * b[2];
+        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
         if (length_squared(ns) > 0) ng = face_forward(ng, ns);
     }
     s.n = ng;
-    s.pdf = len > 0 ? 2 / len : 0;
+    s.pdf = len > 0 ? 2 / len : 0;  // 1 / area
     return s;
+}
+
+ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {
+    auto b = sample_uniform_triangle(u);
+    return point_at(i, b[0], b[1], b[2]);
 }
 
 Float TriangleMesh::solid_angle(size_t i, Point3 ref) const {
@@ -206,22 +210,7 @@ ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) c
             b2 /= sum;
         }
     }
-    Float b0 = 1 - b1 - b2;
-    ShapeSample s;
-    s.p = p0 * b0 + p1 * b1 + p2 * b2;
-    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
-                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
-                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
-    s.p_error = abs_sum * gamma_bound(6);
-    Vec3 c = cross(e1, e2);
-    Float len = length(c);
-    Normal3 ng = len > 0 ? c / len : Vec3(0, 0, 1);
-    if (flip_normals) ng = -ng;
-    if (n && !n->empty()) {
-        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
-        if (length_squared(ns) > 0) ng = face_forward(ng, ns);
-    }
-    s.n = ng;
+    ShapeSample s = point_at(i, 1 - b1 - b2, b1, b2);
     s.pdf = 1 / st.area;  // uniform in solid angle
     return s;
 }

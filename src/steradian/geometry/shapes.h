@@ -32,6 +32,9 @@ struct TriangleMesh {
     size_t num_vertices() const { return p->size() - 1; }
     /// Area of triangle i.
     Float triangle_area(size_t i) const;
+    /// The point of triangle i at barycentrics (b0, b1, b2), with its error bound and
+    /// geometric normal; pdf = 1 / area (pdf_area).
+    ShapeSample point_at(size_t i, Float b0, Float b1, Float b2) const;
     /// Uniformly samples a point on triangle i by area; pdf_area = 1 / area.
     ShapeSample sample_triangle(size_t i, Point2 u) const;
     /// Solid angle (sr) that triangle i subtends at ref (Van Oosterom & Strackee 1983).
