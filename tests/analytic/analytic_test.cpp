@@ -245,3 +245,46 @@ Shape "sphere" "float radius" [ 1 ]
 
 }  // namespace
 }  // namespace sr::test
+
+namespace sr::test {
+namespace {
+
+// White furnace per material: a sphere of a lossless material under a uniform environment
+// of radiance 1 is invisible (every path escapes with throughput 1 in expectation): the
+// smooth dielectric (Fresnel R + T = 1, total internal reflection inside), the thin
+// dielectric, a diffuse transmitter with r + t = 1, and a mirror conductor of reflectance 1.
+// (Rough microfacet lobes lose energy to single scattering and are bounded by <= 1 in the
+// stat suite instead.)
+class MaterialFurnace : public ::testing::TestWithParam<const char*> {};
+TEST_P(MaterialFurnace, LosslessMaterialIsInvisibleInAWhiteFurnace) {
+    std::string scene = fmt::format(R"(
+LookAt 0 0 -4  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 30 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
+Sampler "independent" "integer pixelsamples" [ 64 ]
+Integrator "path" "integer maxdepth" [ 1000 ]
+PixelFilter "box"
+WorldBegin
+LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
+{}
+Shape "sphere" "float radius" [ 1 ]
+)",
+                                    GetParam());
+    Rendered r = render_string(scene);
+    MeanSe m = mean_se(region(r, 4, 4, 12, 12));  // the sphere covers the centre
+    std::printf("%s: %.5f +- %.5f (expected 1)\n", GetParam(), m.mean, m.se);
+    EXPECT_NEAR(m.mean, 1.0, std::max(4.5 * m.se, 2e-3));
+    EXPECT_LT(m.se, 0.02);
+}
+INSTANTIATE_TEST_SUITE_P(
+    Analytic, MaterialFurnace,
+    ::testing::Values("Material \"dielectric\" \"float eta\" [ 1.5 ]",
+                      "Material \"dielectric\" \"spectrum eta\" \"glass-BK7\"",
+                      "Material \"thindielectric\" \"float eta\" [ 1.5 ]",
+                      "Material \"diffusetransmission\" \"spectrum reflectance\" [ 300 0.3 900 0.3 ] "
+                      "\"spectrum transmittance\" [ 300 0.7 900 0.7 ]",
+                      "Material \"conductor\" \"spectrum reflectance\" [ 300 1 900 1 ] "
+                      "\"float roughness\" [ 0 ]"));
+
+}  // namespace
+}  // namespace sr::test

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "steradian/accel/accel.h"
 #include "steradian/scene/mesh_io/ply.h"
@@ -434,6 +435,50 @@ private:
         return int(m_s.spectrum_textures.size()) - 1;
     }
 
+    /// A float-texture index for parameter `name`: a texture reference, a float, or `def`.
+    int float_texture_param(const ParamSet& ps, std::string_view name, Float def) {
+        if (auto tn = ps.find_texture(name)) {
+            auto it = m_float_tex.find(*tn);
+            if (it == m_float_tex.end()) {
+                const Param* p = ps.find(name);
+                throw_error(p ? p->loc : SourceLoc{}, "unknown float texture \"{}\"", *tn);
+            }
+            return it->second;
+        }
+        m_s.float_textures.push_back(ConstantFloatTexture{ps.get_float(name, def)});
+        return int(m_s.float_textures.size()) - 1;
+    }
+
+    /// "roughness", or "uroughness"/"vroughness" (pbrt-v4: each defaults to roughness), and
+    /// "remaproughness".
+    Roughness roughness_params(const ParamSet& ps) {
+        Roughness r;
+        bool has_u = ps.find("uroughness") != nullptr, has_v = ps.find("vroughness") != nullptr;
+        int both = (!has_u || !has_v) ? float_texture_param(ps, "roughness", 0) : -1;
+        r.u = has_u ? float_texture_param(ps, "uroughness", 0) : both;
+        r.v = has_v ? float_texture_param(ps, "vroughness", 0) : both;
+        r.remap = ps.get_bool("remaproughness", true);
+        return r;
+    }
+
+    /// An index of refraction: "float eta" or "spectrum eta" (named glasses disperse).
+    std::pair<Spectrum, bool> eta_param(const ParamSet& ps, Float def) {
+        if (const Param* p = ps.find("eta")) {
+            if (p->type == ParamType::Float) return {ConstantSpectrum{ps.get_float("eta", def)}, false};
+            Spectrum s = spectrum_from_param(*ps.find_spectrum("eta"), SpectrumKind::Unbounded,
+                                             m_d.base_dir);
+            if (const auto* c = s.get_if<ConstantSpectrum>()) return {*c, false};
+            return {densely_sampled(s), true};
+        }
+        return {ConstantSpectrum{def}, false};
+    }
+
+    Spectrum unbounded_param(const ParamSet& ps, std::string_view name, const char* def_named) {
+        if (const Param* p = ps.find_spectrum(name))
+            return densely_sampled(spectrum_from_param(*p, SpectrumKind::Unbounded, m_d.base_dir));
+        return *named_spectrum(def_named);
+    }
+
     // ---- materials ------------------------------------------------------------------
     Material make_material(const MaterialDesc& m) {
         const ParamSet& ps = m.params;
@@ -450,6 +495,41 @@ private:
         if (m.type == "interface" || m.type == "none" || m.type.empty()) {
             ps.check_unused(what);
             return InterfaceMaterial{};
+        }
+        if (m.type == "dielectric") {
+            DielectricMaterial d;
+            std::tie(d.eta, d.dispersive) = eta_param(ps, 1.5f);
+            d.roughness = roughness_params(ps);
+            ps.check_unused(what);
+            return d;
+        }
+        if (m.type == "thindielectric") {
+            ThinDielectricMaterial d;
+            std::tie(d.eta, d.dispersive) = eta_param(ps, 1.5f);
+            ps.check_unused(what);
+            return d;
+        }
+        if (m.type == "conductor") {
+            ConductorMaterial c;
+            if (ps.find("reflectance")) {
+                if (ps.find("eta") || ps.find("k"))
+                    throw_error(m.loc, "{}: give either \"reflectance\" or \"eta\" and \"k\"", what);
+                c.reflectance = spectrum_texture_param(ps, "reflectance", 1);
+            } else {
+                c.eta = unbounded_param(ps, "eta", "metal-Cu-eta");
+                c.k = unbounded_param(ps, "k", "metal-Cu-k");
+            }
+            c.roughness = roughness_params(ps);
+            ps.check_unused(what);
+            return c;
+        }
+        if (m.type == "diffusetransmission") {
+            DiffuseTransmissionMaterial d;
+            d.reflectance = spectrum_texture_param(ps, "reflectance", 0.25f);
+            d.transmittance = spectrum_texture_param(ps, "transmittance", 0.25f);
+            d.scale = ps.get_float("scale", 1);
+            ps.check_unused(what);
+            return d;
         }
         throw_error(m.loc, "material type \"{}\" is not supported yet (see docs/pbrt-support.md)",
                     m.type);
