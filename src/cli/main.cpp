@@ -31,7 +31,6 @@ std::string human_rate(double r) {
 
 int run_render(const std::string& scene_path, std::vector<std::string> outs, int spp, int threads,
                uint64_t seed, double time_budget, bool quiet, float exposure) {
-    double t_load0 = sr::process_cpu_seconds();
     auto wall0 = std::chrono::steady_clock::now();
     sr::SceneDesc desc = sr::parse_pbrt_file(scene_path);
     sr::BuildOptions bo;
@@ -39,7 +38,6 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
     sr::Scene scene = sr::build_scene(desc, bo);
     double load_wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    (void)t_load0;
     if (outs.empty()) outs.push_back(scene.film.filename);
     sr::Film film(scene.film);
     sr::RenderOptions ro;

@@ -123,7 +123,6 @@ struct Accel::Impl {
     RTCScene top = nullptr;
     std::vector<RTCScene> proto_scenes;
     std::vector<int> top_geom_shape;                  ///< geomID -> shape (or -1: instance)
-    std::vector<int> top_geom_instance;               ///< geomID -> instance (or -1)
     std::vector<std::vector<int>> proto_geom_shape;   ///< per prototype: geomID -> shape
     std::vector<int> inst_geom_to_instance;           ///< top geomID -> instance
     std::vector<std::unique_ptr<UserShape>> user_shapes;

@@ -121,16 +121,6 @@ ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {
     return point_at(i, b[0], b[1], b[2]);
 }
 
-Float TriangleMesh::solid_angle(size_t i, Point3 ref) const {
-    const auto& P = *p;
-    const uint32_t* v = &(*indices)[3 * i];
-    Vec3 a = normalize(P[v[0]] - ref), b = normalize(P[v[1]] - ref), c = normalize(P[v[2]] - ref);
-    // tan(omega / 2) = |a . (b x c)| / (1 + a.b + b.c + c.a)
-    Float num = std::abs(dot(a, cross(b, c)));
-    Float den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
-    return std::abs(2 * std::atan2(num, den));
-}
-
 namespace {
 
 /// v minus its component along unit w.
@@ -183,6 +173,14 @@ bool use_spherical(Float omega) {
 }
 
 }  // namespace
+
+Float TriangleMesh::solid_angle(size_t i, Point3 ref) const {
+    const auto& P = *p;
+    const uint32_t* v = &(*indices)[3 * i];
+    return SphericalTriangle(normalize(P[v[0]] - ref), normalize(P[v[1]] - ref),
+                             normalize(P[v[2]] - ref))
+        .area;
+}
 
 ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) const {
     const auto& P = *p;

@@ -14,13 +14,12 @@ public:
     /// by_power: pmf proportional to light_phi_y (lights of zero power never chosen);
     /// otherwise uniform.
     void build(const std::vector<Light>& lights, bool by_power);
-    bool empty() const { return m_pmf.empty(); }
+    bool empty() const { return m_alias.size() == 0; }
     /// Index of the chosen light (or -1 if there are none) and its probability.
     int sample(Float u, Float& pmf) const;
-    Float pmf(int light) const { return m_pmf[light]; }
+    Float pmf(int light) const { return m_alias.pmf(light); }
 
 private:
-    std::vector<Float> m_pmf;
     AliasTable m_alias;
 };
 

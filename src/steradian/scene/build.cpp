@@ -112,7 +112,7 @@ public:
         build_options_block();
         build_textures();
         build_materials();
-        for (const ShapeDesc& s : m_d.shapes) add_shape(s, Transform(), nullptr);
+        for (const ShapeDesc& s : m_d.shapes) add_shape(s, nullptr);
         build_instances();
         // Lights are created by build_lights() once the geometry's bounds are known.
         return std::move(m_s);
@@ -737,7 +737,7 @@ private:
     }
 
     /// Adds a shape (world-level when proto is null, else to the prototype).
-    void add_shape(const ShapeDesc& s, const Transform&, Prototype* proto) {
+    void add_shape(const ShapeDesc& s, Prototype* proto) {
         auto geom = make_geometry(s);
         if (!geom) return;
         ShapeEntry e;
@@ -765,7 +765,7 @@ private:
         for (const auto& [name, def] : m_d.instances) {
             Prototype p;
             p.name = name;
-            for (const ShapeDesc& s : def.shapes) add_shape(s, Transform(), &p);
+            for (const ShapeDesc& s : def.shapes) add_shape(s, &p);
             proto_index[name] = int(m_s.prototypes.size());
             m_s.prototypes.push_back(std::move(p));
         }
