@@ -1,14 +1,18 @@
-// steradian command line: `steradian render SCENE.pbrt [options]`.
+// steradian command line: `steradian render SCENE.pbrt [options]`,
+// `steradian measure SCENE.pbrt [options]`.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "steradian/core/error.h"
 #include "steradian/film/film.h"
+#include "steradian/film/image_io.h"
 #include "steradian/integrators/integrator.h"
+#include "steradian/integrators/measure.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 
@@ -29,8 +33,74 @@ std::string human_rate(double r) {
     return fmt::format("{:.0f} ", r);
 }
 
+void write_text(const std::string& path, const std::string& text) {
+    if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty())
+        std::filesystem::create_directories(dir);
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+    if (!f) throw sr::Error(fmt::format("{}: cannot write", path));
+}
+
+/// The readings as a table on stdout.
+void print_readings(const sr::MeasureResult& r) {
+    for (const sr::MeterReading& rd : r.readings) {
+        const sr::Meter& m = *rd.meter;
+        std::printf("%s (%s, %s)\n", m.name.c_str(), m.type.c_str(), m.unit().c_str());
+        for (size_t k = 0; k < rd.values.size(); ++k) {
+            sr::Point3 p = m.points[k];
+            double rel = rd.values[k] != 0 ? rd.stderrs[k] / std::abs(rd.values[k]) : 0;
+            std::printf("  %4zu  (%9.4g, %9.4g, %9.4g)  %12.6g +- %-10.3g (%.3f%%)%s\n", k, p.x, p.y,
+                        p.z, rd.values[k], rd.stderrs[k], 100 * rel,
+                        rd.converged[k] ? "" : "  not converged");
+        }
+        if (m.kind == sr::MeterKind::Grid)
+            std::printf("  E_avg %.6g +- %.3g   E_min %.6g   E_max %.6g   U0 %.4f\n", rd.avg,
+                        rd.avg_stderr, rd.min, rd.max, rd.uniformity);
+    }
+}
+
+void print_measure_summary(const sr::MeasureResult& r) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "  meters          %zu, target relative standard error %.3g%%%s\n",
+                 r.readings.size(), 100 * r.rel_error_target,
+                 r.all_converged ? "" : (r.time_limited ? " (NOT reached: --time budget)"
+                                                        : " (NOT reached: sample limit)"));
+    std::fprintf(stderr, "  wall time       %.3f s\n", r.wall_seconds);
+    std::fprintf(stderr, "  CPU time        %.3f s\n", r.cpu_seconds);
+    std::fprintf(stderr, "  paths           %llu\n", (unsigned long long)r.paths);
+    if (r.nonfinite > 0)
+        std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were zeroed\n",
+                     (unsigned long long)r.nonfinite);
+}
+
+struct MeasureArgs {
+    std::string json, csv;
+    double rel_error = 1e-3;
+    double time_budget = 0;
+};
+
+int run_measure(const std::string& scene_path, const MeasureArgs& a, int threads, uint64_t seed,
+                bool quiet) {
+    sr::SceneDesc desc = sr::parse_pbrt_file(scene_path);
+    sr::Scene scene = sr::build_scene(desc, {});
+    if (scene.meters.empty())
+        throw sr::Error(fmt::format("{}: the scene has no Meter directives", scene_path));
+    sr::MeasureOptions mo;
+    mo.rel_error = a.rel_error;
+    mo.time_budget = a.time_budget;
+    mo.threads = threads;
+    mo.seed = seed;
+    sr::MeasureResult r = sr::measure(scene, mo);
+    print_readings(r);
+    if (!a.json.empty()) write_text(a.json, sr::meters_json(r));
+    if (!a.csv.empty()) write_text(a.csv, sr::meters_csv(r));
+    if (!quiet) print_measure_summary(r);
+    return 0;
+}
+
 int run_render(const std::string& scene_path, std::vector<std::string> outs, int spp, int threads,
-               uint64_t seed, double time_budget, bool quiet, float exposure) {
+               uint64_t seed, double time_budget, bool quiet, float exposure,
+               const std::string& luminance_out) {
     auto wall0 = std::chrono::steady_clock::now();
     sr::SceneDesc desc = sr::parse_pbrt_file(scene_path);
     sr::BuildOptions bo;
@@ -76,6 +146,29 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
     if (st.nonfinite > 0)
         std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were zeroed\n",
                      (unsigned long long)st.nonfinite);
+    if (!luminance_out.empty()) {
+        // Luminance in cd/m^2: the sensor's Y without the imaging ratio.
+        sr::Image y;
+        y.width = scene.film.width();
+        y.height = scene.film.height();
+        y.channels = 1;
+        for (double v : film.luminance()) y.data.push_back(float(v / scene.film.imaging_ratio));
+        sr::write_image(luminance_out, y);
+        if (!quiet) std::fprintf(stderr, "steradian: wrote %s (luminance, cd/m2)\n", luminance_out.c_str());
+    }
+    if (!scene.meters.empty()) {
+        sr::MeasureOptions mo;
+        mo.threads = threads;
+        mo.seed = seed;
+        sr::MeasureResult r = sr::measure(scene, mo);
+        std::filesystem::path jp(outs.front());
+        jp.replace_extension(".meters.json");
+        write_text(jp.string(), sr::meters_json(r));
+        if (!quiet) {
+            std::fprintf(stderr, "steradian: wrote %s\n", jp.string().c_str());
+            print_measure_summary(r);
+        }
+    }
     return 0;
 }
 
@@ -110,6 +203,30 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber);
     render->add_option("--exposure", exposure, "exposure in stops for 8-bit outputs (PNG)");
     render->add_flag("-q,--quiet", quiet, "no progress bar or summary");
+    std::string luminance_out;
+    render->add_option("--luminance", luminance_out,
+                       "also write the luminance image in cd/m2 (single-channel .exr)");
+
+    auto* measure = app.add_subcommand(
+        "measure", "Compute the scene's Meter readings (lx, W/m2, cd/m2) with standard errors");
+    std::string mscene;
+    MeasureArgs margs;
+    int mthreads = 0;
+    uint64_t mseed = 0;
+    bool mquiet = false;
+    measure->add_option("scene", mscene, "pbrt-v4 scene file with Meter directives")->required();
+    measure->add_option("--json", margs.json, "write the readings as JSON");
+    measure->add_option("--csv", margs.csv, "write the readings as CSV");
+    measure->add_option("--rel-error", margs.rel_error,
+                        "target relative standard error of every value (default 0.001)")
+        ->check(CLI::PositiveNumber);
+    measure->add_option("--time", margs.time_budget,
+                        "time budget in seconds: report what is reached by then")
+        ->check(CLI::NonNegativeNumber);
+    measure->add_option("--threads", mthreads, "worker threads (default: all cores)")
+        ->check(CLI::NonNegativeNumber);
+    measure->add_option("--seed", mseed, "random seed");
+    measure->add_flag("-q,--quiet", mquiet, "no summary on stderr");
 
     try {
         app.parse(argc, argv);
@@ -117,7 +234,10 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     try {
-        if (*render) return run_render(scene, outs, spp, threads, seed, time_budget, quiet, exposure);
+        if (*render)
+            return run_render(scene, outs, spp, threads, seed, time_budget, quiet, exposure,
+                              luminance_out);
+        if (*measure) return run_measure(mscene, margs, mthreads, mseed, mquiet);
     } catch (const sr::Error& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

@@ -73,8 +73,11 @@ Image read_pfm(const std::string& path) {
 }  // namespace
 
 void write_image(const std::string& path, const Image& img, const WriteOptions& opts) {
-    if (img.channels != 3) throw Error(fmt::format("{}: expected an RGB image", path));
     std::string ext = extension(path);
+    // One channel (named "Y") only for EXR, e.g. a luminance image in cd/m^2.
+    if (img.channels != 3 && !(img.channels == 1 && ext == ".exr"))
+        throw Error(fmt::format("{}: expected an RGB image{}", path,
+                                img.channels == 1 ? " (single-channel images: .exr only)" : ""));
     if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty())
         std::filesystem::create_directories(dir);
     if (ext == ".pfm") return write_pfm(path, img);
@@ -83,7 +86,8 @@ void write_image(const std::string& path, const Image& img, const WriteOptions& 
     bool is_float = ext == ".exr" || ext == ".hdr";
     OIIO::TypeDesc type = is_float ? (opts.half_float ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT)
                                    : OIIO::TypeDesc::UINT8;
-    OIIO::ImageSpec spec(img.width, img.height, 3, type);
+    OIIO::ImageSpec spec(img.width, img.height, img.channels, type);
+    if (img.channels == 1) spec.channelnames = {"Y"};
     spec.attribute("oiio:ColorSpace", is_float ? "Linear" : "sRGB");
     if (!out->open(path, spec)) throw Error(fmt::format("{}: {}", path, out->geterror()));
     bool ok;

@@ -22,7 +22,8 @@ struct WriteOptions {
 };
 
 /// Writes an RGB image (3 channels, linear) by the file extension: .exr (linear float),
-/// .pfm (linear float), .png/.jpg/.tif... (8-bit sRGB, clamped). Throws sr::Error.
+/// .pfm (linear float), .png/.jpg/.tif... (8-bit sRGB, clamped); a single-channel image
+/// (channel "Y") to .exr only. Throws sr::Error.
 void write_image(const std::string& path, const Image& rgb, const WriteOptions& opts = {});
 
 /// Reads an image. 8-bit (and 16-bit integer) images are sRGB-decoded to linear when

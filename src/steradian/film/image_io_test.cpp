@@ -206,6 +206,20 @@ TEST_F(ImageIo, PngExposureScalesByPowersOfTwo) {
     EXPECT_NEAR(raw.data[2], 1.0, 1e-6);
 }
 
+TEST_F(ImageIo, SingleChannelExrRoundTrips) {
+    Image y;
+    y.width = 3;
+    y.height = 2;
+    y.channels = 1;
+    y.data = {0.5f, 1e3f, 2.25f, 0, 7.125f, 1e-3f};
+    write_image(path("y.exr"), y);
+    Image back = read_image(path("y.exr"));
+    ASSERT_EQ(back.channels, 1);
+    ASSERT_EQ(back.width, 3);
+    ASSERT_EQ(back.height, 2);
+    for (size_t i = 0; i < y.data.size(); ++i) EXPECT_EQ(back.data[i], y.data[i]);
+}
+
 TEST_F(ImageIo, ErrorsAreReported) {
     Image img = make_image(2, 2);
     EXPECT_THROW(write_image(path("a.unknownext"), img), Error);
@@ -215,7 +229,10 @@ TEST_F(ImageIo, ErrorsAreReported) {
     Image grey = img;
     grey.channels = 1;
     grey.data.resize(4);
-    EXPECT_THROW(write_image(path("g.exr"), grey), Error);
+    EXPECT_THROW(write_image(path("g.png"), grey), Error);  // single channel: .exr only
+    EXPECT_THROW(write_image(path("g.pfm"), grey), Error);
+    grey.channels = 2;
+    EXPECT_THROW(write_image(path("g2.exr"), grey), Error);
     // Not a PFM, and a truncated one.
     {
         std::ofstream f(path("bad.pfm"), std::ios::binary);

@@ -26,6 +26,24 @@ std::optional<LightLiSample> PointLight::sample_li(const LightSampleContext& ctx
 
 Float PointLight::phi_y() const { return 4 * kPi * scale * photometric(intensity); }
 
+// ---- goniometric (photometric point) ---------------------------------------------------
+
+std::optional<LightLiSample> GoniometricLight::sample_li(const LightSampleContext& ctx, Point2,
+                                                         const SampledWavelengths& lambda) const {
+    Vec3 d = p - ctx.p;
+    Float dist2 = length_squared(d);
+    if (dist2 == 0) return std::nullopt;
+    LightLiSample s;
+    s.wi = d / std::sqrt(dist2);
+    Float i = profile.intensity(-s.wi);
+    if (!(i > 0)) return std::nullopt;
+    s.L = spectrum.sample(lambda) * (scale * i / dist2);
+    s.pdf_sa = 1;
+    s.p_light = p;
+    s.delta = true;
+    return s;
+}
+
 // ---- spot -----------------------------------------------------------------------------
 
 std::optional<LightLiSample> SpotLight::sample_li(const LightSampleContext& ctx, Point2,
@@ -136,6 +154,10 @@ Float DiffuseAreaLight::pdf_li_point(const LightSampleContext& ctx, Point3 p_lig
 }
 
 Float DiffuseAreaLight::phi_y() const {
+    // A luminous opening's primitives share the distribution's flux by area.
+    if (goniometric)
+        return goniometric->scale * goniometric->flux_lm *
+               (goniometric->sphere_radius > 0 ? 1 : area / goniometric->opening_area);
     return scale * photometric(radiance) * kPi * area * (two_sided ? 2 : 1);
 }
 

@@ -4,11 +4,13 @@
 /// in the scene's radiance unit (docs/units.md); `scale` already includes pbrt-v4's
 /// photometric normalisation and any power/illuminance parameter.
 #include <concepts>
+#include <memory>
 #include <optional>
 #include <variant>
 
 #include "steradian/core/transform.h"
 #include "steradian/geometry/shapes.h"
+#include "steradian/lights/photometric/photometric.h"
 #include "steradian/spectrum/spectrum.h"
 
 namespace sr {
@@ -89,6 +91,60 @@ struct UniformInfiniteLight {
     }
 };
 
+/// A luminous intensity distribution from a photometric file (IES LM-63 or EULUMDAT)
+/// placed in the scene. The luminaire frame is PhotometricData's: photometric nadir
+/// (gamma = 0) along local -z, C = 0 along local +x, C = 90 deg along local +y; local
+/// directions are world directions mapped by `light_from_world` (rotation and any scale;
+/// directions are normalised after mapping). intensity() is in candela as tabulated,
+/// bilinear between the file's angles.
+struct GoniometricProfile {
+    std::shared_ptr<const PhotometricData> data;
+    Transform light_from_world;
+    /// Luminous intensity (cd, as tabulated) emitted in world direction w (any length).
+    Float intensity(Vec3 w) const {
+        Vec3 l = light_from_world.vector(w);
+        return Float(data->intensity_direction(l.x, l.y, l.z));
+    }
+    Vec3 local(Vec3 w) const { return normalize(light_from_world.vector(w)); }
+};
+
+/// A photometric point source: I_e(w, lambda) = scale * I_v(w) * S(lambda), where S is the
+/// lamp spectrum normalised to unit photometric value (so one scene unit of intensity is
+/// one candela, docs/units.md) and I_v the file's luminous intensity.
+struct GoniometricLight {
+    Point3 p;
+    GoniometricProfile profile;
+    Spectrum spectrum;  ///< normalised: integral of S(lambda) ybar(lambda) = 1
+    Float scale = 1;
+    Float flux_lm = 0;  ///< luminous flux of the tabulated distribution (lm, before scale)
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
+                                           const SampledWavelengths& lambda) const;
+    Float pdf_li(const LightSampleContext&, Vec3) const { return 0; }
+    Float phi_y() const { return scale * flux_lm; }
+    bool is_delta() const { return true; }
+};
+
+/// The luminous opening of a photometric luminaire as an emitting surface (LM-63 width,
+/// length, height): a flat opening (rectangle or disk in the luminaire's z = 0 plane,
+/// emitting from both faces) has radiance I(w) / (A |cos theta|), a spherical one
+/// I(w) / (pi r^2), so that the opening's intensity in every direction is the file's.
+struct GoniometricEmission {
+    GoniometricProfile profile;
+    Spectrum spectrum;  ///< normalised as in GoniometricLight
+    Float scale = 1;
+    Float opening_area = 0;      ///< flat: the whole opening's area A
+    Float sphere_radius = 0;     ///< > 0 for a spherical opening
+    Float flux_lm = 0;           ///< of the whole distribution (before scale)
+    SampledSpectrum radiance(Vec3 w, const SampledWavelengths& lambda) const {
+        Vec3 l = profile.local(w);
+        Float proj = sphere_radius > 0 ? kPi * sqr(sphere_radius) : opening_area * std::abs(l.z);
+        if (!(proj > Float(1e-12) * opening_area) && sphere_radius <= 0) return SampledSpectrum(0);
+        Float i = Float(profile.data->intensity_direction(l.x, l.y, l.z));
+        if (i <= 0) return SampledSpectrum(0);
+        return spectrum.sample(lambda) * (scale * i / proj);
+    }
+};
+
 /// One emitting primitive (a triangle of a mesh, or a whole sphere or disk).
 struct DiffuseAreaLight {
     const TriangleMesh* mesh = nullptr;  ///< exactly one of mesh, sphere, disk is set
@@ -99,9 +155,14 @@ struct DiffuseAreaLight {
     Float scale = 1;
     bool two_sided = false;
     Float area = 0;
+    /// Set for the luminous opening of a photometric luminaire: the radiance then follows
+    /// its intensity distribution (both faces of a flat opening emit) and `radiance`,
+    /// `scale` and `two_sided` are unused.
+    std::shared_ptr<const GoniometricEmission> goniometric;
 
     /// Emitted radiance leaving a point with geometric normal n in direction w.
     SampledSpectrum l(Normal3 n, Vec3 w, const SampledWavelengths& lambda) const {
+        if (goniometric) return goniometric->radiance(w, lambda);
         if (!two_sided && dot(n, w) < 0) return SampledSpectrum(0);
         return radiance.sample(lambda) * scale;
     }
@@ -124,9 +185,10 @@ concept LightLike = requires(const L& l, const LightSampleContext& c, Point2 u,
 };
 
 using Light = std::variant<PointLight, SpotLight, DistantLight, UniformInfiniteLight,
-                           DiffuseAreaLight>;
+                           DiffuseAreaLight, GoniometricLight>;
 static_assert(LightLike<PointLight> && LightLike<SpotLight> && LightLike<DistantLight> &&
-              LightLike<UniformInfiniteLight> && LightLike<DiffuseAreaLight>);
+              LightLike<UniformInfiniteLight> && LightLike<DiffuseAreaLight> &&
+              LightLike<GoniometricLight>);
 
 std::optional<LightLiSample> sample_li(const Light& light, const LightSampleContext& ctx,
                                        Point2 u, const SampledWavelengths& lambda);

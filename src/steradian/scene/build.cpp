@@ -7,6 +7,8 @@
 #include <tuple>
 
 #include "steradian/accel/accel.h"
+#include "steradian/lights/photometric/eulumdat.h"
+#include "steradian/lights/photometric/ies.h"
 #include "steradian/scene/mesh_io/ply.h"
 
 namespace sr {
@@ -114,6 +116,7 @@ public:
         build_materials();
         for (const ShapeDesc& s : m_d.shapes) add_shape(s, nullptr);
         build_instances();
+        build_luminaires();
         // Lights are created by build_lights() once the geometry's bounds are known.
         return std::move(m_s);
     }
@@ -778,12 +781,181 @@ private:
         }
     }
 
+    // ---- photometric luminaires (goniometric lights with an IES/LDT file) ----------
+    // Read before the geometry is finalised: a luminous opening is a shape (with the
+    // "interface" material, so it emits but does not block light).
+    struct Luminaire {
+        std::optional<GoniometricLight> point;          ///< the point form, or
+        std::shared_ptr<GoniometricEmission> emission;  ///< the luminous opening
+        int shape = -1;                                 ///< its shape
+    };
+
+    /// ".ies", ".ldt", ... in lower case.
+    static std::string lower_extension(const std::string& f) {
+        std::string ext = std::filesystem::path(f).extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        return ext;
+    }
+
+    void build_luminaires() {
+        for (size_t i = 0; i < m_d.lights.size(); ++i) {
+            const LightDesc& l = m_d.lights[i];
+            if (l.type != "goniometric") continue;
+            m_luminaires[i] = make_luminaire(l);
+        }
+    }
+
+    Luminaire make_luminaire(const LightDesc& l) {
+        const ParamSet& ps = l.params;
+        const std::string what = "LightSource \"goniometric\"";
+        std::optional<std::string> file = ps.find_string("filename");
+        if (!file)
+            throw_error(l.loc, "{}: needs \"string filename\" (an .ies or .ldt photometric file)", what);
+        const std::string ext = lower_extension(*file);
+        if (ext != ".ies" && ext != ".ldt")
+            throw_error(ps.find("filename")->loc,
+                        "{}: image-based goniometric distributions (\"{}\") are not supported yet; "
+                        "give an IES (.ies) or EULUMDAT (.ldt) file",
+                        what, *file);
+        std::string path = resolve_path(m_d.base_dir, *file);
+        auto data = std::make_shared<PhotometricData>(ext == ".ldt" ? read_eulumdat(path)
+                                                                    : read_ies(path));
+        // The lamp spectrum gives the shape only: normalised to unit photometric value, so
+        // I_e(lambda) = I_v * S(lambda) / integral(S ybar) (course notes eq. 12-17 with
+        // K_m folded into the scene unit, docs/units.md).
+        Spectrum S = illum_param(ps, "I");
+        Float sc = ps.get_float("scale", 1) / photometric_or_fail(S, l.loc);
+        Spectrum S_dense = densely_sampled(S);
+        // LM-63 TILT: the multiplying factor at the lamp's tilt angle in this mounting.
+        Float tilt = ps.get_float("tiltangle", 0);
+        if (data->tilt.mode != "NONE") sc *= Float(data->tilt.factor(tilt));
+        Float flux = Float(data->total_flux());
+        if (!(flux > 0)) throw_error(l.loc, "{}: \"{}\" has no luminous flux", what, *file);
+        Float phi = ps.get_float("power", -1);
+        if (phi > 0) sc *= phi / flux;
+        std::string emission = ps.get_string("emission", "auto");
+        if (emission != "auto" && emission != "point" && emission != "area")
+            throw_error(ps.find("emission")->loc,
+                        "{}: \"emission\" must be \"auto\", \"point\" or \"area\", not \"{}\"",
+                        what, emission);
+        ps.check_unused(what);
+
+        const Transform& world_from_light = l.world_from_light;
+        GoniometricProfile profile{data, world_from_light.inverse()};
+        Luminaire lum;
+        LuminousShape shape = data->shape;
+        bool flat = shape == LuminousShape::Rectangular || shape == LuminousShape::Circular;
+        bool round = shape == LuminousShape::Sphere;
+        if (emission == "area" && !flat && !round)
+            throw_error(l.loc,
+                        "{}: \"emission\" \"area\" needs a rectangular, circular or spherical "
+                        "luminous opening; \"{}\" has {}",
+                        what, *file, to_string(shape));
+        if (emission != "point" && shape != LuminousShape::Point && !flat && !round)
+            warning(l.loc, fmt::format("{}: the {} luminous opening of \"{}\" is emitted from "
+                                       "its photometric centre (point form)",
+                                       what, to_string(shape), *file));
+        if (emission == "point" || (!flat && !round)) {
+            GoniometricLight g;
+            g.p = world_from_light.point(Point3(0, 0, 0));
+            g.profile = std::move(profile);
+            g.spectrum = S_dense;
+            g.scale = sc;
+            g.flux_lm = flux;
+            lum.point = std::move(g);
+            return lum;
+        }
+        auto em = std::make_shared<GoniometricEmission>();
+        em->profile = std::move(profile);
+        em->spectrum = S_dense;
+        em->scale = sc;
+        em->flux_lm = flux;
+        ShapeEntry e;
+        if (round) {
+            Sphere sp;
+            sp.world_from_object = world_from_light;
+            sp.radius = Float(data->width / 2);
+            sp.z_min = -sp.radius;
+            sp.z_max = sp.radius;
+            sp.theta_z_min = 0;
+            sp.theta_z_max = kPi;
+            sp.flip_normals = world_from_light.swaps_handedness();
+            em->sphere_radius = sp.radius;
+            em->opening_area = sp.area();
+            e.geometry = sp;
+        } else if (shape == LuminousShape::Circular) {
+            Disk d;
+            d.world_from_object = world_from_light;
+            d.radius = Float(data->width / 2);
+            d.flip_normals = !world_from_light.swaps_handedness();  // facing nadir (-z)
+            em->opening_area = d.area();
+            e.geometry = d;
+        } else {
+            // Length along the photometric horizontal (x), width along C90 (y).
+            Float hx = Float(data->length / 2), hy = Float(data->width / 2);
+            ShapeDesc sd;
+            sd.type = "luminous opening";
+            sd.loc = l.loc;
+            sd.world_from_object = world_from_light;
+            TriangleMesh m = make_mesh(sd, {Point3(-hx, -hy, 0), Point3(hx, -hy, 0), Point3(hx, hy, 0),
+                                            Point3(-hx, hy, 0)},
+                                       {}, {}, {0, 2, 1, 0, 3, 2});
+            em->opening_area = m.triangle_area(0) + m.triangle_area(1);
+            e.geometry = std::move(m);
+        }
+        if (!(em->opening_area > 0))
+            throw_error(l.loc, "{}: the luminous opening of \"{}\" has no area", what, *file);
+        e.material = -1;
+        lum.shape = int(m_s.shapes.size());
+        m_s.shapes.push_back(std::move(e));
+        m_s.top_level_shapes.push_back(lum.shape);
+        lum.emission = std::move(em);
+        return lum;
+    }
+
+    void add_luminaire(Scene& s, const Luminaire& lum) {
+        if (lum.point) {
+            s.lights.push_back(*lum.point);
+            return;
+        }
+        ShapeEntry& e = s.shapes[lum.shape];
+        e.light_offset = int(s.lights.size());
+        auto make = [&](Float area) {
+            DiffuseAreaLight dl;
+            dl.area = area;
+            dl.goniometric = lum.emission;
+            return dl;
+        };
+        if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
+            for (size_t i = 0; i < mesh->num_triangles(); ++i) {
+                DiffuseAreaLight dl = make(mesh->triangle_area(i));
+                dl.mesh = mesh;
+                dl.prim = uint32_t(i);
+                s.lights.push_back(dl);
+            }
+        } else if (auto* sp = std::get_if<Sphere>(&e.geometry)) {
+            DiffuseAreaLight dl = make(sp->area());
+            dl.sphere = sp;
+            s.lights.push_back(dl);
+        } else {
+            auto* d = std::get_if<Disk>(&e.geometry);
+            DiffuseAreaLight dl = make(d->area());
+            dl.disk = d;
+            s.lights.push_back(dl);
+        }
+    }
+
 public:
     // ---- lights (after geometry: distant and infinite lights need the bounds) --------
     void build_lights(Scene& s) {
         Point3 center = s.bounds.empty() ? Point3(0, 0, 0) : s.bounds.center();
         Float radius = s.bounds.empty() ? 1 : std::max(Float(1e-3), length(s.bounds.diagonal()) / 2);
-        for (const LightDesc& l : m_d.lights) add_light(s, l, center, radius);
+        for (size_t i = 0; i < m_d.lights.size(); ++i) {
+            if (auto it = m_luminaires.find(i); it != m_luminaires.end())
+                add_luminaire(s, it->second);
+            else
+                add_light(s, m_d.lights[i], center, radius);
+        }
         for (auto [shape, al] : m_pending_area) add_area_light(s, shape, m_d.area_lights[al]);
     }
 
@@ -950,6 +1122,7 @@ private:
     std::vector<int> m_material_index;
     int m_default_material = -1;
     std::vector<std::pair<int, int>> m_pending_area;  ///< (shape, area light desc)
+    std::map<size_t, Luminaire> m_luminaires;         ///< by index into SceneDesc::lights
 };
 
 }  // namespace
@@ -960,6 +1133,7 @@ Scene build_scene(const SceneDesc& desc, const BuildOptions& options) {
     s.finalize_geometry();
     b.build_lights(s);
     s.finalize_lights();
+    s.meters = build_meters(desc.meters);
     return s;
 }
 

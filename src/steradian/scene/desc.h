@@ -49,6 +49,12 @@ struct LightDesc : EntityDesc {
     Transform world_from_light;  ///< CTM at the LightSource directive
 };
 
+/// Meter "type" ... (a steradian extension, docs/photometry.md): points and directions
+/// are given in the coordinate system of the CTM at the directive.
+struct MeterDesc : EntityDesc {
+    Transform world_from_meter;
+};
+
 /// One per AreaLightSource directive; every shape created while it is in effect refers to
 /// it (pbrt-v4 creates one light per shape from these same parameters).
 struct AreaLightDesc : EntityDesc {};
@@ -108,6 +114,7 @@ struct SceneDesc {
     std::vector<ShapeDesc> shapes;
     std::map<std::string, InstanceDefinition> instances;
     std::vector<InstanceUse> instance_uses;
+    std::vector<MeterDesc> meters;
 
     /// Directory of the main scene file: relative file names in parameters resolve here.
     std::string base_dir;

@@ -13,6 +13,7 @@
 #include "steradian/lights/light.h"
 #include "steradian/lights/light_sampler.h"
 #include "steradian/material/material.h"
+#include "steradian/sensors/meter.h"
 
 namespace sr {
 
@@ -73,6 +74,7 @@ public:
     std::vector<Light> lights;
     std::vector<int> infinite_lights;  ///< lights with radiance at infinity (escaping rays)
     LightSampler light_sampler;
+    std::vector<Meter> meters;  ///< Meter directives (docs/photometry.md)
 
     std::unique_ptr<Camera> camera;
     FilmParams film;

@@ -226,6 +226,19 @@ NamedMap build_named_spectra() {
     for (int i = 0; i < 12; ++i)
         m[fmt::format("stdillum-F{}", i + 1)] = normalized_illuminant(regular_pairs(
             cie::kF[i], cie::kFluorescentCount, cie::kFluorescentFirstNm, cie::kFluorescentStepNm));
+    // CIE 015:2018 illuminants representing high-pressure discharge lamps and LED lamps
+    // (not in pbrt-v4), normalised like F1..F12.
+    for (int i = 0; i < cie::kHpIlluminants; ++i)
+        m[fmt::format("stdillum-HP{}", i + 1)] = normalized_illuminant(
+            regular_pairs(cie::kHp[i], cie::kHpCount, cie::kHpFirstNm, cie::kHpStepNm));
+    {
+        const char* const led_names[cie::kLedIlluminants] = {"LED-B1",   "LED-B2", "LED-B3",
+                                                             "LED-B4",   "LED-B5", "LED-BH1",
+                                                             "LED-RGB1", "LED-V1", "LED-V2"};
+        for (int i = 0; i < cie::kLedIlluminants; ++i)
+            m[fmt::format("stdillum-{}", led_names[i])] = normalized_illuminant(
+                regular_pairs(cie::kLed[i], cie::kLedCount, cie::kLedFirstNm, cie::kLedStepNm));
+    }
     // ACES "D60" (Academy TB-2014-004): CIE daylight from the S basis at exactly 6000 K,
     // chromaticity (0.32169, 0.33780), close to the ACES white point (0.32168, 0.33767).
     {

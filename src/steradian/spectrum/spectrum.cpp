@@ -176,6 +176,19 @@ const DenselySampledSpectrum& cie_z() {
     return s;
 }
 
+const DenselySampledSpectrum& cie_scotopic_v() {
+    // The 1 nm table placed at its wavelengths in the 360..830 nm grid, zero elsewhere.
+    static const DenselySampledSpectrum s = [] {
+        static_assert(cie::kScotopicFirstNm >= int(kLambdaMin));
+        static_assert(cie::kScotopicFirstNm + cie::kScotopicCount - 1 <= int(kLambdaMax));
+        auto v = std::make_shared<std::vector<Float>>(kDenseCount, Float(0));
+        for (int i = 0; i < cie::kScotopicCount; ++i)
+            (*v)[size_t(cie::kScotopicFirstNm - int(kLambdaMin) + i)] = cie::kScotopicV[i];
+        return DenselySampledSpectrum{std::move(v)};
+    }();
+    return s;
+}
+
 Float inner_product(const Spectrum& a, const Spectrum& b) {
     double sum = 0;
     for (int i = 0; i < kDenseCount; ++i) {

@@ -120,6 +120,20 @@ inline constexpr Float kCieYIntegral = 106.856895f;
 const DenselySampledSpectrum& cie_x();
 const DenselySampledSpectrum& cie_y();
 const DenselySampledSpectrum& cie_z();
+/// CIE 1951 scotopic luminous efficiency function V'(lambda) (CIE 018:2019, ISO 23539 / CIE
+/// S 010), 1 at 507 nm, tabulated at 1 nm over 380..780 nm. Zero at integer wavelengths
+/// outside the table (the dense representation ramps linearly over the 1 nm next to each
+/// end, as for the colour matching functions).
+const DenselySampledSpectrum& cie_scotopic_v();
+/// Maximum luminous efficacy for photopic vision, K_m in lm/W, applied to V(lambda) = ybar.
+/// The SI defines the candela through K_cd = 683 lm/W for monochromatic radiation of
+/// 540e12 Hz (555.016 nm in standard air), where V = 0.999998, so K_m = 683.002 lm/W, which
+/// CIE S 017:2020 "ILV" and CIE 018:2019 "The basis of physical photometry" take as 683.
+inline constexpr double kKmPhotopic = 683.0;
+/// Maximum luminous efficacy for scotopic vision, K'_m in lm/W, applied to V'(lambda): from
+/// the same SI definition, K'_m = 683 / V'(555.016 nm) = 683 / 0.40175 = 1700.06 lm/W,
+/// which CIE S 017 / CIE 018 give as 1700 lm/W.
+inline constexpr double kKmScotopic = 1700.0;
 
 /// Integral of a(l) b(l) over the integer wavelengths 360..830 nm (1 nm steps).
 Float inner_product(const Spectrum& a, const Spectrum& b);
@@ -177,7 +191,10 @@ RgbUnboundedSpectrum rgb_unbounded_spectrum_interpolated(Rgb rgb);
 RgbIlluminantSpectrum rgb_illuminant_spectrum_interpolated(Rgb rgb);
 
 // ---- named spectra ------------------------------------------------------------------------
-/// pbrt-v4's named spectra ("stdillum-D65", "metal-Au-eta", "glass-BK7", ...), or empty.
+/// pbrt-v4's named spectra ("stdillum-D65", "metal-Au-eta", "glass-BK7", ...), plus the
+/// CIE 015:2018 LED and high-pressure lamp illuminants ("stdillum-LED-B1".."stdillum-LED-B5",
+/// "stdillum-LED-BH1", "stdillum-LED-RGB1", "stdillum-LED-V1", "stdillum-LED-V2",
+/// "stdillum-HP1".."stdillum-HP5"), or empty.
 /// Returned as DenselySampledSpectrum (O(1) evaluation, zero outside 360..830 nm; the zero
 /// k of the transparent oxides MgO and TiO2 as ConstantSpectrum);
 /// illuminants are normalised to Y = 1, eta / k are not. Built once, thread-safe.

@@ -55,6 +55,51 @@ TEST(CieCmf, NonNegativeAndZeroOutsideRange) {
     EXPECT_EQ(cie_y()(830.5f), 0);
 }
 
+// ---- CIE 1951 scotopic luminous efficiency function and luminous efficacies ---------------
+
+TEST(CieScotopic, PeaksAtOneAt507nm) {
+    // CIE 1951: V'(lambda) is normalised to 1 at its maximum, 507 nm.
+    const DenselySampledSpectrum& v = cie_scotopic_v();
+    EXPECT_NEAR(v(507), 1.0, 1e-6);
+    EXPECT_NEAR(v.max_value(), 1.0, 1e-6);
+    for (int l = 360; l <= 830; ++l) EXPECT_LE(v(Float(l)), 1.0f) << l;
+}
+
+TEST(CieScotopic, MatchesCie1951Table) {
+    // The CIE 1951 table at 5 nm (Wyszecki & Stiles, "Color Science", 2nd ed., Table
+    // I(4.3.2); ISO 23539:2005 / CIE S 010:2004).
+    struct Case {
+        Float nm;
+        double v;
+    };
+    const Case cases[] = {
+        {380, 0.000589}, {400, 0.00929}, {420, 0.0966},   {450, 0.455},   {480, 0.793},
+        {500, 0.982},    {505, 0.998},   {510, 0.997},    {530, 0.811},   {555, 0.402},
+        {560, 0.3288},   {600, 0.03315}, {650, 0.000677}, {700, 1.78e-5}, {780, 1.39e-7},
+    };
+    for (const Case& c : cases) EXPECT_NEAR(cie_scotopic_v()(c.nm), c.v, 1e-6 * c.v) << c.nm;
+    // Monochromatic light at 555 nm: V'(555) = 0.402, i.e. 40% of the scotopic peak.
+    EXPECT_NEAR(cie_scotopic_v()(555), 0.402, 1e-6);
+}
+
+TEST(CieScotopic, ZeroOutsideTable) {
+    const DenselySampledSpectrum& v = cie_scotopic_v();
+    for (Float l : {350.0f, 360.0f, 370.0f, 379.0f, 781.0f, 800.0f, 830.0f, 900.0f})
+        EXPECT_EQ(v(l), 0) << l;
+    EXPECT_GT(v(380), 0);
+    EXPECT_GT(v(780), 0);
+}
+
+TEST(CieScotopic, MaximumLuminousEfficaciesFollowFromTheCandela) {
+    // SI: K_cd = 683 lm/W at 540e12 Hz, 555.016 nm in standard air (CIE 018:2019). Hence
+    // K_m = 683 / V(555.016 nm) = 683.002 lm/W and K'_m = 683 / V'(555.016 nm) = 1700 lm/W.
+    EXPECT_EQ(kKmPhotopic, 683.0);
+    EXPECT_EQ(kKmScotopic, 1700.0);
+    EXPECT_NEAR(kKmPhotopic / cie_y()(555.016f), 683.002, 1e-3);
+    EXPECT_NEAR(683.0 / cie_scotopic_v()(555), kKmScotopic, 1e-3 * kKmScotopic);
+    EXPECT_NEAR(683.0 / cie_scotopic_v()(555.016f), kKmScotopic, 1e-4 * kKmScotopic);
+}
+
 // ---- spectrum types and dispatch --------------------------------------------------------------
 
 TEST(Spectrum, DefaultIsZero) {

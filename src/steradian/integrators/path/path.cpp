@@ -1,5 +1,7 @@
 #include "steradian/integrators/path/path.h"
 
+#include <climits>
+
 #include "steradian/scene/scene.h"
 
 namespace sr {
@@ -13,134 +15,178 @@ inline Float power_heuristic(Float pf, Float pg) {
     return f + g > 0 ? f / (f + g) : 0;
 }
 
+/// One path's state. `depth` counts the scattering vertices so far; a contribution made of
+/// emission found after k vertices, or of a light sampled at the k-th vertex, has k vertices
+/// and is counted only if k >= min_vertices.
+class PathState {
+public:
+    PathState(const Scene& scene, SampledWavelengths& lambda, Sampler& sampler,
+              PathCounters& counters, const PathLimits& limits)
+        : m_scene(scene), m_cfg(scene.integrator), m_lambda(lambda), m_sampler(sampler),
+          m_counters(counters), m_min_vertices(limits.min_vertices),
+          m_max_depth(limits.max_depth == PathLimits::kSceneDepth ? scene.integrator.max_depth
+                      : limits.max_depth < 0                      ? INT_MAX
+                                                                  : limits.max_depth),
+          m_use_nee(m_cfg.strategy != LightStrategy::BsdfOnly),
+          m_use_bsdf_hits(m_cfg.strategy != LightStrategy::LightOnly),
+          m_mctx(scene.material_context()) {}
+
+    SampledSpectrum L{0};
+
+    /// Follows `ray` until the path ends.
+    void trace(Ray ray) {
+        while (true) {
+            SurfaceHit hit;
+            ++m_counters.rays;
+            if (!m_scene.intersect(ray, hit)) {
+                escaped(ray);
+                return;
+            }
+            if (hit.light >= 0) emitted(hit);
+            std::optional<Bsdf> bsdf;
+            if (hit.material >= 0)
+                bsdf = make_bsdf(m_scene.materials[hit.material], m_mctx, hit, m_lambda);
+            if (!bsdf) {
+                // Interface: continue straight through without counting a bounce (bounded,
+                // in case a degenerate surface keeps returning the same hit).
+                if (++m_interface_crossings > 256) return;
+                ray = spawn_ray(hit, ray.d);
+                continue;
+            }
+            auto next = scatter(hit, *bsdf);
+            if (!next) return;
+            ray = *next;
+        }
+    }
+
+    /// Light sampling and BSDF sampling at a scattering vertex; the continuation ray, or
+    /// nothing when the path ends here.
+    std::optional<Ray> scatter(const SurfaceHit& hit, const Bsdf& bsdf) {
+        if (m_depth++ == m_max_depth) return std::nullopt;
+        LightSampleContext ctx{hit.p, hit.p_error, hit.ng};
+        if (m_use_nee && bsdf.has_non_specular() && !m_scene.light_sampler.empty())
+            sample_light(hit, bsdf, ctx);
+
+        Float uc = m_sampler.get_1d();
+        Point2 u = m_sampler.get_2d();
+        auto bs = bsdf.sample(hit.wo, uc, u);
+        if (!bs) return std::nullopt;
+        m_beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
+        m_specular_bounce = bs->is_specular();
+        m_prev_pdf_sa = bs->pdf_sa;
+        m_prev_ctx = ctx;
+        if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
+        Ray ray = spawn_ray(hit, bs->wi);
+
+        // Russian roulette (unbiased: survivors are reweighted by 1 / (1 - q)).
+        SampledSpectrum rr_beta = m_beta * m_eta_scale;
+        Float m = rr_beta.max_value();
+        if (m < 1 && m_depth > 1) {
+            Float q = std::max(Float(0), 1 - m);
+            if (m_sampler.get_1d() < q) return std::nullopt;
+            m_beta /= 1 - q;
+        }
+        if (m_beta.is_zero()) return std::nullopt;
+        return ray;
+    }
+
+private:
+    bool counted() const { return m_depth >= m_min_vertices; }
+
+    /// Weight of emission reached by the last BSDF sample against light sampling.
+    Float hit_weight(Float p_light) const {
+        if (m_depth == 0 || m_specular_bounce) return 1;
+        if (!m_use_bsdf_hits) return 0;
+        return m_use_nee ? power_heuristic(m_prev_pdf_sa, p_light) : 1;
+    }
+
+    void escaped(const Ray& ray) {
+        if (!counted()) return;
+        for (int li : m_scene.infinite_lights) {
+            const auto& inf = std::get<UniformInfiniteLight>(m_scene.lights[li]);
+            Float p_l = (m_depth == 0 || m_specular_bounce || !m_use_nee)
+                            ? 0
+                            : m_scene.light_sampler.pmf(li) * inf.pdf_li(m_prev_ctx, ray.d);
+            Float w = hit_weight(p_l);
+            if (w > 0) L += m_beta * inf.le(ray.d, m_lambda) * w;
+        }
+    }
+
+    void emitted(const SurfaceHit& hit) {
+        if (!counted()) return;
+        const auto& area = std::get<DiffuseAreaLight>(m_scene.lights[hit.light]);
+        SampledSpectrum le = area.l(hit.ng, hit.wo, m_lambda);
+        if (le.is_zero()) return;
+        Float p_l = (m_depth == 0 || m_specular_bounce || !m_use_nee)
+                        ? 0
+                        : m_scene.light_sampler.pmf(hit.light) *
+                              area.pdf_li_point(m_prev_ctx, hit.p, hit.ng);
+        Float w = hit_weight(p_l);
+        if (w > 0) L += m_beta * le * w;
+    }
+
+    void sample_light(const SurfaceHit& hit, const Bsdf& bsdf, const LightSampleContext& ctx) {
+        // The sample dimensions are consumed whether or not the contribution counts, so
+        // the components of a meter reading use the same random numbers.
+        Float u_light = m_sampler.get_1d();
+        Point2 u2 = m_sampler.get_2d();
+        if (!counted()) return;
+        Float pmf;
+        int li = m_scene.light_sampler.sample(u_light, pmf);
+        if (li < 0 || pmf <= 0) return;
+        auto ls = sample_li(m_scene.lights[li], ctx, u2, m_lambda);
+        if (!ls || ls->pdf_sa <= 0 || ls->L.is_zero()) return;
+        Bsdf::Eval ev = bsdf.evaluate(hit.wo, ls->wi);
+        SampledSpectrum f = ev.f * ev.abs_cos;
+        if (f.is_zero()) return;
+        Ray shadow;
+        if (ls->at_infinity)
+            shadow = spawn_ray(hit, ls->wi);
+        else if (ls->delta)
+            shadow = spawn_ray_to(hit, ls->p_light);
+        else
+            shadow = spawn_ray_between(hit, ls->p_light, ls->p_error, ls->n_light);
+        ++m_counters.rays;
+        if (m_scene.occluded(shadow)) return;
+        Float p_l = pmf * ls->pdf_sa;
+        Float w = (ls->delta || !m_use_bsdf_hits) ? 1 : power_heuristic(p_l, ev.pdf_sa);
+        L += m_beta * f * ls->L * (w / p_l);
+    }
+
+    const Scene& m_scene;
+    const IntegratorSettings& m_cfg;
+    SampledWavelengths& m_lambda;
+    Sampler& m_sampler;
+    PathCounters& m_counters;
+    const int m_min_vertices;
+    const int m_max_depth;
+    const bool m_use_nee, m_use_bsdf_hits;
+    const MaterialContext m_mctx;
+
+    SampledSpectrum m_beta{1};
+    bool m_specular_bounce = false;
+    Float m_eta_scale = 1;
+    Float m_prev_pdf_sa = 0;
+    LightSampleContext m_prev_ctx;
+    int m_depth = 0;
+    int m_interface_crossings = 0;
+};
+
 }  // namespace
 
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
-                        PathCounters& counters) {
-    const IntegratorSettings& cfg = scene.integrator;
-    const bool use_nee = cfg.strategy != LightStrategy::BsdfOnly;
-    const bool use_bsdf_hits = cfg.strategy != LightStrategy::LightOnly;
-    const MaterialContext mctx = scene.material_context();
+                        PathCounters& counters, const PathLimits& limits) {
+    PathState path(scene, lambda, sampler, counters, limits);
+    path.trace(ray);
+    return path.L;
+}
 
-    SampledSpectrum L(0), beta(1);
-    bool specular_bounce = false;
-    Float eta_scale = 1;
-    Float prev_pdf_sa = 0;
-    LightSampleContext prev_ctx;
-    int depth = 0;
-    int interface_crossings = 0;
-
-    while (true) {
-        SurfaceHit hit;
-        ++counters.rays;
-        bool found = scene.intersect(ray, hit);
-        if (!found) {
-            for (int li : scene.infinite_lights) {
-                const auto& inf = std::get<UniformInfiniteLight>(scene.lights[li]);
-                SampledSpectrum le = inf.le(ray.d, lambda);
-                if (depth == 0 || specular_bounce) {
-                    L += beta * le;
-                } else if (use_bsdf_hits) {
-                    Float w = 1;
-                    if (use_nee) {
-                        Float p_l = scene.light_sampler.pmf(li) * inf.pdf_li(prev_ctx, ray.d);
-                        w = power_heuristic(prev_pdf_sa, p_l);
-                    }
-                    L += beta * le * w;
-                }
-            }
-            break;
-        }
-
-        // Emission at the hit point.
-        if (hit.light >= 0) {
-            const auto& area = std::get<DiffuseAreaLight>(scene.lights[hit.light]);
-            SampledSpectrum le = area.l(hit.ng, hit.wo, lambda);
-            if (!le.is_zero()) {
-                if (depth == 0 || specular_bounce) {
-                    L += beta * le;
-                } else if (use_bsdf_hits) {
-                    Float w = 1;
-                    if (use_nee) {
-                        Float p_l = scene.light_sampler.pmf(hit.light) *
-                                    area.pdf_li_point(prev_ctx, hit.p, hit.ng);
-                        w = power_heuristic(prev_pdf_sa, p_l);
-                    }
-                    L += beta * le * w;
-                }
-            }
-        }
-
-        std::optional<Bsdf> bsdf;
-        if (hit.material >= 0) bsdf = make_bsdf(scene.materials[hit.material], mctx, hit, lambda);
-        if (!bsdf) {
-            // Interface: continue straight through without counting a bounce (bounded, in
-            // case a degenerate surface keeps returning the same hit).
-            if (++interface_crossings > 256) break;
-            ray = spawn_ray(hit, ray.d);
-            continue;
-        }
-
-        if (depth++ == cfg.max_depth) break;
-
-        LightSampleContext ctx{hit.p, hit.p_error, hit.ng};
-
-        // Next-event estimation.
-        if (use_nee && bsdf->has_non_specular() && !scene.light_sampler.empty()) {
-            Float u_light = sampler.get_1d();
-            Point2 u2 = sampler.get_2d();
-            Float pmf;
-            int li = scene.light_sampler.sample(u_light, pmf);
-            if (li >= 0 && pmf > 0) {
-                const Light& light = scene.lights[li];
-                auto ls = sample_li(light, ctx, u2, lambda);
-                if (ls && ls->pdf_sa > 0 && !ls->L.is_zero()) {
-                    Bsdf::Eval ev = bsdf->evaluate(hit.wo, ls->wi);
-                    SampledSpectrum f = ev.f * ev.abs_cos;
-                    if (!f.is_zero()) {
-                        Ray shadow;
-                        if (ls->at_infinity)
-                            shadow = spawn_ray(hit, ls->wi);
-                        else if (ls->delta)
-                            shadow = spawn_ray_to(hit, ls->p_light);
-                        else
-                            shadow = spawn_ray_between(hit, ls->p_light, ls->p_error, ls->n_light);
-                        ++counters.rays;
-                        if (!scene.occluded(shadow)) {
-                            Float p_l = pmf * ls->pdf_sa;
-                            Float w = (ls->delta || !use_bsdf_hits)
-                                          ? 1
-                                          : power_heuristic(p_l, ev.pdf_sa);
-                            L += beta * f * ls->L * (w / p_l);
-                        }
-                    }
-                }
-            }
-        }
-
-        // BSDF sampling.
-        Float uc = sampler.get_1d();
-        Point2 u = sampler.get_2d();
-        auto bs = bsdf->sample(hit.wo, uc, u);
-        if (!bs) break;
-        beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
-        specular_bounce = bs->is_specular();
-        prev_pdf_sa = bs->pdf_sa;
-        prev_ctx = ctx;
-        if (bs->is_transmission()) eta_scale *= sqr(bs->eta);
-        ray = spawn_ray(hit, bs->wi);
-
-        // Russian roulette (unbiased: survivors are reweighted by 1 / (1 - q)).
-        SampledSpectrum rr_beta = beta * eta_scale;
-        Float m = rr_beta.max_value();
-        if (m < 1 && depth > 1) {
-            Float q = std::max(Float(0), 1 - m);
-            if (sampler.get_1d() < q) break;
-            beta /= 1 - q;
-        }
-        if (beta.is_zero()) break;
-    }
-    return L;
+SampledSpectrum path_lo(const Scene& scene, const SurfaceHit& vertex, const Bsdf& bsdf,
+                        SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                        const PathLimits& limits) {
+    PathState path(scene, lambda, sampler, counters, limits);
+    if (auto ray = path.scatter(vertex, bsdf)) path.trace(*ray);
+    return path.L;
 }
 
 }  // namespace sr

@@ -18,10 +18,33 @@ struct PathCounters {
     uint64_t rays = 0;
 };
 
+class Bsdf;
+struct SurfaceHit;
+
+/// Which light paths count. A path's vertex count is its number of scattering vertices
+/// (emission seen directly by the camera: 0; a camera path's first bounce: 1; a meter's own
+/// vertex is its first).
+struct PathLimits {
+    static constexpr int kSceneDepth = -2;
+    /// Paths with fewer scattering vertices contribute nothing (their random numbers are
+    /// still drawn, so components of one estimate share them).
+    int min_vertices = 0;
+    /// Largest number of scattering vertices: kSceneDepth = the integrator's maxdepth,
+    /// any other negative value = unlimited (Russian roulette ends the path).
+    int max_depth = kSceneDepth;
+};
+
 /// Radiance arriving along -ray.d at ray.o, at the wavelengths `lambda` (which a
 /// dispersive interface may reduce to the hero wavelength). Uses the scene's integrator
 /// settings (max depth, strategy).
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
-                        PathCounters& counters);
+                        PathCounters& counters, const PathLimits& limits = {});
+
+/// Radiance leaving `vertex` towards vertex.wo, scattered by `bsdf` there (a surface the
+/// scene does not contain, e.g. a meter's ideal Lambertian receiver): the path starts with
+/// that vertex's light and BSDF samples.
+SampledSpectrum path_lo(const Scene& scene, const SurfaceHit& vertex, const Bsdf& bsdf,
+                        SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                        const PathLimits& limits = {});
 
 }  // namespace sr

@@ -56,7 +56,7 @@ enum class Dir {
     Accelerator, ActiveTransform, AreaLightSource, Attribute, AttributeBegin, AttributeEnd,
     Camera, ColorSpace, ConcatTransform, CoordSysTransform, CoordinateSystem, Film, Identity,
     Import, Include, Integrator, LightSource, LookAt, MakeNamedMaterial, MakeNamedMedium,
-    Material, MediumInterface, NamedMaterial, ObjectBegin, ObjectEnd, ObjectInstance, Option,
+    Material, MediumInterface, Meter, NamedMaterial, ObjectBegin, ObjectEnd, ObjectInstance, Option,
     PixelFilter, ReverseOrientation, Rotate, Sampler, Scale, Shape, Texture, Transform,
     TransformBegin, TransformEnd, TransformTimes, Translate, WorldBegin, WorldEnd
 };
@@ -85,6 +85,7 @@ const std::unordered_map<std::string_view, Dir>& directive_table() {
         {"MakeNamedMedium", Dir::MakeNamedMedium},
         {"Material", Dir::Material},
         {"MediumInterface", Dir::MediumInterface},
+        {"Meter", Dir::Meter},
         {"NamedMaterial", Dir::NamedMaterial},
         {"ObjectBegin", Dir::ObjectBegin},
         {"ObjectEnd", Dir::ObjectEnd},
@@ -954,6 +955,19 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                                              "transformation (as in pbrt-v4)",
                                              m_object->name));
                 m_scene.lights.push_back(std::move(l));
+                break;
+            }
+            case Dir::Meter: {
+                // steradian extension: a photometric meter (docs/photometry.md).
+                require_world("Meter", loc);
+                auto [type, params] = parse_entity(s, "Meter");
+                MeterDesc m;
+                m.type = std::move(type);
+                m.params = make_params(std::move(params), nullptr);
+                m.loc = loc;
+                m.world_from_meter = m_gs.ctm;
+                if (m_object) throw_error(loc, "Meter is not allowed inside ObjectBegin");
+                m_scene.meters.push_back(std::move(m));
                 break;
             }
             case Dir::AreaLightSource: {

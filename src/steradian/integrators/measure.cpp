@@ -1,0 +1,287 @@
+#include "steradian/integrators/measure.h"
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "steradian/bsdf/bsdf.h"
+#include "steradian/integrators/integrator.h"
+#include "steradian/integrators/path/path.h"
+#include "steradian/sampling/hash.h"
+#include "steradian/sampling/sampler.h"
+#include "steradian/sampling/warp.h"
+#include "steradian/scene/scene.h"
+
+namespace sr {
+
+namespace {
+
+/// The meter's spectral weighting of a sampled spectrum: the average over the path's
+/// wavelengths of w(lambda) L(lambda) / p(lambda) (terminated secondaries have pdf 0 and
+/// the hero's pdf already carries the 1/N).
+double weigh(const Meter& m, const SampledSpectrum& L, const SampledWavelengths& lambda) {
+    double sum = 0;
+    for (int i = 0; i < kSpectrumSamples; ++i)
+        if (lambda.pdf[i] > 0)
+            sum += double(L[i]) * double(m.spectral_weight(lambda.lambda[i])) / double(lambda.pdf[i]);
+    return sum / kSpectrumSamples;
+}
+
+PathLimits limits_of(const Meter& m) {
+    PathLimits lim;
+    lim.max_depth = m.max_depth < 0 ? -1 : m.max_depth;
+    if (m.component == MeterComponent::Direct) lim.max_depth = 1;
+    if (m.component == MeterComponent::Indirect) lim.min_vertices = 2;
+    return lim;
+}
+
+}  // namespace
+
+double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& sampler,
+                    PathCounters& counters) {
+    SampledWavelengths lambda = SampledWavelengths::sample_visible(sampler.get_1d());
+    const Vec3 dir = m.directions[point];
+    Point3 p = m.points[point];
+    if (m.kind == MeterKind::Luminance) {
+        Point2 u = sampler.get_2d();
+        Vec3 d = dir;
+        if (m.cone_half_angle > 0)
+            d = Frame::from_z(dir).to_world(sample_uniform_cone(u, std::cos(m.cone_half_angle)));
+        PathLimits lim;
+        lim.max_depth = m.max_depth < 0 ? -1 : m.max_depth;
+        SampledSpectrum L = path_li(scene, Ray{p, d, kInfinity}, lambda, sampler, counters, lim);
+        return weigh(m, L, lambda);
+    }
+    if (m.cell_average) {
+        Point2 u = sampler.get_2d();
+        p = p + m.cell_u * (u.x - Float(0.5)) + m.cell_v * (u.y - Float(0.5));
+    }
+    // An ideal white Lambertian receiver facing `dir`: E = pi L_o.
+    SurfaceHit v;
+    v.p = p;
+    Float err = (std::abs(p.x) + std::abs(p.y) + std::abs(p.z) + 1) * Float(2e-6);
+    v.p_error = Vec3(err, err, err);
+    v.ng = v.ns = v.wo = dir;
+    Frame frame = Frame::from_z(dir);
+    v.dpdu = frame.s;
+    Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
+    SampledSpectrum L = path_lo(scene, v, receiver, lambda, sampler, counters, limits_of(m));
+    return kPi * weigh(m, L, lambda);
+}
+
+MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    if (opt.replicas < 2) throw Error("measure: need at least 2 replicas");
+
+    MeasureResult res;
+    res.rel_error_target = opt.rel_error;
+    // Flatten (meter, point) into value indices.
+    struct Value {
+        int meter;
+        size_t point;
+    };
+    std::vector<Value> values;
+    for (size_t mi = 0; mi < scene.meters.size(); ++mi) {
+        MeterReading r;
+        r.meter = &scene.meters[mi];
+        size_t n = scene.meters[mi].points.size();
+        r.values.assign(n, 0);
+        r.stderrs.assign(n, 0);
+        r.samples.assign(n, 0);
+        r.converged.assign(n, 0);
+        res.readings.push_back(std::move(r));
+        for (size_t k = 0; k < n; ++k) values.push_back({int(mi), k});
+    }
+
+    const int R = opt.replicas;
+    int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    tbb::task_arena arena(threads);
+
+    // Per value: the samples per replica of its next round (0 = finished).
+    std::vector<int64_t> next_n(values.size(), std::max(1, opt.first_samples));
+    std::atomic<uint64_t> paths{0}, rays{0}, nonfinite{0};
+    for (int round = 0;; ++round) {
+        std::vector<size_t> pending;
+        for (size_t i = 0; i < values.size(); ++i)
+            if (next_n[i] > 0) pending.push_back(i);
+        if (pending.empty()) break;
+        std::vector<double> replica_mean(pending.size() * size_t(R), 0);
+        const uint64_t round_seed = hash(opt.seed, uint64_t(round), uint64_t(0x6d65746572));
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), pending.size() * size_t(R), [&](size_t item) {
+                const size_t vi = pending[item / R];
+                const Value& val = values[vi];
+                const int replica = int(item % R);
+                const Meter& m = scene.meters[val.meter];
+                const int n = int(next_n[vi]);
+                PaddedSobolSampler sampler(n, round_seed);
+                PathCounters counters;
+                uint64_t bad = 0;
+                double sum = 0;
+                for (int i = 0; i < n; ++i) {
+                    sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
+                    double v = meter_sample(scene, m, val.point, sampler, counters);
+                    if (!std::isfinite(v)) {
+                        ++bad;
+                        v = 0;
+                    }
+                    sum += v;
+                }
+                replica_mean[item] = sum / n;
+                paths += uint64_t(n);
+                rays += counters.rays;
+                nonfinite += bad;
+            });
+        });
+        const bool out_of_time = opt.time_budget > 0 && elapsed() > opt.time_budget;
+        for (size_t j = 0; j < pending.size(); ++j) {
+            const size_t vi = pending[j];
+            double mean = 0;
+            for (int r = 0; r < R; ++r) mean += replica_mean[j * R + r];
+            mean /= R;
+            double var = 0;
+            for (int r = 0; r < R; ++r) var += sqr(replica_mean[j * R + r] - mean);
+            var /= R - 1;
+            const double se = std::sqrt(var / R);
+            const int64_t n = next_n[vi];
+            const Value& val = values[vi];
+            MeterReading& rd = res.readings[val.meter];
+            rd.values[val.point] = mean;
+            rd.stderrs[val.point] = se;
+            rd.samples[val.point] = n * R;
+            const double target = opt.rel_error * std::abs(mean);
+            const bool ok = se <= target;
+            rd.converged[val.point] = ok;
+            // The first round is a pilot: it only sizes the next one, so the reported
+            // estimate never comes from the round whose variance decided the sample count.
+            if ((ok && round > 0) || se == 0) {
+                rd.converged[val.point] = 1;
+                next_n[vi] = 0;
+                continue;
+            }
+            // Size the next round for the target with a 20% margin, assuming the error falls
+            // as 1/sqrt(n) (conservative for RQMC); at least double, at most x64.
+            double grow = target > 0 ? sqr(se / (0.8 * target)) : 64;
+            int64_t want = n * 2;
+            while (want < int64_t(std::ceil(double(n) * std::min(grow, 64.0)))) want *= 2;
+            if (out_of_time || want > opt.max_samples) {
+                next_n[vi] = 0;
+                if (out_of_time) res.time_limited = true;
+            } else {
+                next_n[vi] = want;
+            }
+        }
+    }
+
+    for (MeterReading& r : res.readings) {
+        for (uint8_t c : r.converged) res.all_converged = res.all_converged && c;
+        if (r.meter->kind != MeterKind::Grid || r.values.empty()) continue;
+        double sum = 0, var = 0;
+        r.min = r.max = r.values[0];
+        for (size_t k = 0; k < r.values.size(); ++k) {
+            sum += r.values[k];
+            var += sqr(r.stderrs[k]);
+            r.min = std::min(r.min, r.values[k]);
+            r.max = std::max(r.max, r.values[k]);
+        }
+        double cnt = double(r.values.size());
+        r.avg = sum / cnt;
+        r.avg_stderr = std::sqrt(var) / cnt;
+        r.uniformity = r.avg > 0 ? r.min / r.avg : 0;
+    }
+    res.paths = paths;
+    res.rays = rays;
+    res.nonfinite = nonfinite;
+    res.wall_seconds = elapsed();
+    res.cpu_seconds = process_cpu_seconds() - cpu0;
+    return res;
+}
+
+namespace {
+
+const char* to_string(MeterWeighting w) {
+    switch (w) {
+        case MeterWeighting::Photopic: return "photopic";
+        case MeterWeighting::Scotopic: return "scotopic";
+        case MeterWeighting::Radiometric: return "radiometric";
+    }
+    return "";
+}
+
+const char* to_string(MeterComponent c) {
+    switch (c) {
+        case MeterComponent::All: return "all";
+        case MeterComponent::Direct: return "direct";
+        case MeterComponent::Indirect: return "indirect";
+    }
+    return "";
+}
+
+}  // namespace
+
+std::string meters_json(const MeasureResult& res) {
+    nlohmann::ordered_json root;
+    root["rel_error_target"] = res.rel_error_target;
+    root["converged"] = res.all_converged;
+    root["time_limited"] = res.time_limited;
+    root["wall_seconds"] = res.wall_seconds;
+    root["cpu_seconds"] = res.cpu_seconds;
+    root["paths"] = res.paths;
+    root["nonfinite"] = res.nonfinite;
+    nlohmann::ordered_json meters = nlohmann::ordered_json::array();
+    for (const MeterReading& r : res.readings) {
+        const Meter& m = *r.meter;
+        nlohmann::ordered_json j;
+        j["name"] = m.name;
+        j["type"] = m.type;
+        j["unit"] = m.unit();
+        j["vision"] = to_string(m.weighting);
+        if (m.kind != MeterKind::Luminance) j["component"] = to_string(m.component);
+        j["values"] = r.values;
+        j["stderr"] = r.stderrs;
+        j["samples"] = r.samples;
+        std::vector<bool> conv(r.converged.begin(), r.converged.end());
+        j["converged"] = conv;
+        nlohmann::ordered_json pts = nlohmann::ordered_json::array();
+        for (Point3 p : m.points) pts.push_back({p.x, p.y, p.z});
+        j["points"] = pts;
+        if (m.kind == MeterKind::Grid) {
+            j["resolution"] = {m.nu, m.nv};
+            j["cellaverage"] = m.cell_average;
+            j["avg"] = r.avg;
+            j["avg_stderr"] = r.avg_stderr;
+            j["min"] = r.min;
+            j["max"] = r.max;
+            j["uniformity"] = r.uniformity;
+        }
+        meters.push_back(std::move(j));
+    }
+    root["meters"] = std::move(meters);
+    return root.dump(2) + "\n";
+}
+
+std::string meters_csv(const MeasureResult& res) {
+    std::string out = "meter,type,unit,index,x,y,z,value,stderr,samples,converged\n";
+    for (const MeterReading& r : res.readings) {
+        const Meter& m = *r.meter;
+        for (size_t k = 0; k < r.values.size(); ++k) {
+            Point3 p = m.points[k];
+            out += fmt::format("{},{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{},{}\n", m.name, m.type,
+                               m.unit(), k, p.x, p.y, p.z, r.values[k], r.stderrs[k], r.samples[k],
+                               int(r.converged[k]));
+        }
+    }
+    return out;
+}
+
+}  // namespace sr

@@ -1,0 +1,73 @@
+#pragma once
+/// Meter readings (`steradian measure`, and `render` for scenes with meters): every value
+/// to a target relative standard error, with an honest standard error.
+///
+/// Estimator: randomised quasi-Monte Carlo with independent replicas. A value is the mean
+/// of R independent replicas, each the average of n samples of an Owen-scrambled Sobol
+/// sampler (PaddedSobolSampler) keyed by (value, replica, round, seed); the standard error
+/// is the standard deviation of the replica means over sqrt(R), which is valid because the
+/// replicas are independent however the samples within one are correlated. While a value
+/// misses its target, a new round doubles n with fresh scrambles (the previous round is
+/// discarded: at most half the work). Every number is a pure function of (value, replica,
+/// round, sample, dimension, seed) and the replica sums are reduced in a fixed order, so
+/// readings do not depend on the number of threads.
+///
+/// Receiving meters (illuminance, irradiance, grids) place an ideal white Lambertian
+/// receiver (f = 1/pi) at the point and estimate E = pi L_o with the path tracer (light
+/// sampling and cosine sampling combined by MIS, then the full path); luminance meters
+/// average the radiance over their acceptance cone (uniform in solid angle).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "steradian/sensors/meter.h"
+
+namespace sr {
+
+class Scene;
+class Sampler;
+struct PathCounters;
+
+struct MeasureOptions {
+    double rel_error = 1e-3;  ///< target relative standard error of every value
+    double time_budget = 0;   ///< seconds; 0 = none (stops after the round in progress)
+    int threads = 0;          ///< 0 = all hardware threads
+    uint64_t seed = 0;
+    int replicas = 32;        ///< independent randomisations per value (>= 2)
+    int first_samples = 32;   ///< samples per replica in the pilot round (power of two)
+    /// Samples per replica beyond which a value stops unconverged (a power of two).
+    int max_samples = 1 << 22;
+};
+
+struct MeterReading {
+    const Meter* meter = nullptr;
+    std::vector<double> values;
+    std::vector<double> stderrs;
+    std::vector<int64_t> samples;   ///< samples spent on the reported estimate
+    std::vector<uint8_t> converged; ///< reached the target
+    /// Grids: mean, its standard error, minimum, maximum and uniformity U0 = min / mean.
+    double avg = 0, avg_stderr = 0, min = 0, max = 0, uniformity = 0;
+};
+
+struct MeasureResult {
+    std::vector<MeterReading> readings;
+    double rel_error_target = 0;
+    double wall_seconds = 0, cpu_seconds = 0;
+    uint64_t paths = 0, rays = 0, nonfinite = 0;
+    bool time_limited = false;
+    bool all_converged = true;
+};
+
+/// Measures every meter of the scene.
+MeasureResult measure(const Scene& scene, const MeasureOptions& options);
+
+/// One sample of value `point` of meter `m` (the sampler positioned on its sample): the
+/// meter's quantity in its unit. Exposed for tests.
+double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& sampler,
+                    PathCounters& counters);
+
+/// JSON ({"meters": [...]}, docs/photometry.md) and CSV renderings of a result.
+std::string meters_json(const MeasureResult& r);
+std::string meters_csv(const MeasureResult& r);
+
+}  // namespace sr
