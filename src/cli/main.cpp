@@ -10,6 +10,7 @@
 
 #include "steradian/core/error.h"
 #include "steradian/film/film.h"
+#include "steradian/film/falsecolor.h"
 #include "steradian/film/image_io.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/measure.h"
@@ -44,7 +45,7 @@ void write_text(const std::string& path, const std::string& text) {
 /// The readings as a table on stdout.
 void print_readings(const sr::MeasureResult& r) {
     for (const sr::MeterReading& rd : r.readings) {
-        const sr::Meter& m = *rd.meter;
+        const sr::Meter& m = rd.meter;
         std::printf("%s (%s, %s)\n", m.name.c_str(), m.type.c_str(), m.unit().c_str());
         for (size_t k = 0; k < rd.values.size(); ++k) {
             sr::Point3 p = m.points[k];
@@ -73,7 +74,35 @@ void print_measure_summary(const sr::MeasureResult& r) {
                      (unsigned long long)r.nonfinite);
 }
 
+/// False-colour images of the grid meters: `path` for the first, `<stem>-<name><ext>` for
+/// the others. Rows run along u; v points up in the image.
+void write_grid_false_color(const sr::MeasureResult& r, const std::string& path, bool quiet) {
+    bool first = true;
+    for (const sr::MeterReading& rd : r.readings) {
+        const sr::Meter& m = rd.meter;
+        if (m.kind != sr::MeterKind::Grid) continue;
+        sr::Image v;
+        v.width = m.nu;
+        v.height = m.nv;
+        v.channels = 1;
+        v.data.resize(size_t(m.nu) * m.nv);
+        for (int j = 0; j < m.nv; ++j)
+            for (int i = 0; i < m.nu; ++i)
+                v.data[size_t(m.nv - 1 - j) * m.nu + i] = float(rd.values[size_t(j) * m.nu + i]);
+        sr::FalseColorOptions fo;
+        fo.unit = m.unit();
+        fo.log_scale = false;
+        std::filesystem::path out(path);
+        if (!first) out.replace_filename(out.stem().string() + "-" + m.name + out.extension().string());
+        sr::write_image(out.string(), sr::false_color(v, fo));
+        if (!quiet) std::fprintf(stderr, "steradian: wrote %s (false colour, %s)\n", out.string().c_str(), m.name.c_str());
+        first = false;
+    }
+    if (first) throw sr::Error("--falsecolor: the scene has no grid meter (Meter \"illuminancegrid\")");
+}
+
 struct MeasureArgs {
+    std::string falsecolor;
     std::string json, csv;
     double rel_error = 1e-3;
     double time_budget = 0;
@@ -94,13 +123,14 @@ int run_measure(const std::string& scene_path, const MeasureArgs& a, int threads
     print_readings(r);
     if (!a.json.empty()) write_text(a.json, sr::meters_json(r));
     if (!a.csv.empty()) write_text(a.csv, sr::meters_csv(r));
+    if (!a.falsecolor.empty()) write_grid_false_color(r, a.falsecolor, quiet);
     if (!quiet) print_measure_summary(r);
     return 0;
 }
 
 int run_render(const std::string& scene_path, std::vector<std::string> outs, int spp, int threads,
                uint64_t seed, double time_budget, bool quiet, float exposure,
-               const std::string& luminance_out) {
+               const std::string& luminance_out, const std::string& falsecolor_out) {
     auto wall0 = std::chrono::steady_clock::now();
     sr::SceneDesc desc = sr::parse_pbrt_file(scene_path);
     sr::BuildOptions bo;
@@ -146,15 +176,24 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
     if (st.nonfinite > 0)
         std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were zeroed\n",
                      (unsigned long long)st.nonfinite);
-    if (!luminance_out.empty()) {
+    if (!luminance_out.empty() || !falsecolor_out.empty()) {
         // Luminance in cd/m^2: the sensor's Y without the imaging ratio.
         sr::Image y;
         y.width = scene.film.width();
         y.height = scene.film.height();
         y.channels = 1;
         for (double v : film.luminance()) y.data.push_back(float(v / scene.film.imaging_ratio));
-        sr::write_image(luminance_out, y);
-        if (!quiet) std::fprintf(stderr, "steradian: wrote %s (luminance, cd/m2)\n", luminance_out.c_str());
+        if (!luminance_out.empty()) {
+            sr::write_image(luminance_out, y);
+            if (!quiet)
+                std::fprintf(stderr, "steradian: wrote %s (luminance, cd/m2)\n", luminance_out.c_str());
+        }
+        if (!falsecolor_out.empty()) {
+            sr::write_image(falsecolor_out, sr::false_color(y, {}));
+            if (!quiet)
+                std::fprintf(stderr, "steradian: wrote %s (false-colour luminance)\n",
+                             falsecolor_out.c_str());
+        }
     }
     if (!scene.meters.empty()) {
         sr::MeasureOptions mo;
@@ -206,6 +245,9 @@ int main(int argc, char** argv) {
     std::string luminance_out;
     render->add_option("--luminance", luminance_out,
                        "also write the luminance image in cd/m2 (single-channel .exr)");
+    std::string falsecolor_out;
+    render->add_option("--falsecolor", falsecolor_out,
+                       "also write a false-colour image of luminance with a labelled scale (.png)");
 
     auto* measure = app.add_subcommand(
         "measure", "Compute the scene's Meter readings (lx, W/m2, cd/m2) with standard errors");
@@ -226,6 +268,8 @@ int main(int argc, char** argv) {
     measure->add_option("--threads", mthreads, "worker threads (default: all cores)")
         ->check(CLI::NonNegativeNumber);
     measure->add_option("--seed", mseed, "random seed");
+    measure->add_option("--falsecolor", margs.falsecolor,
+                        "write false-colour images of the grid meters with a labelled scale (.png)");
     measure->add_flag("-q,--quiet", mquiet, "no summary on stderr");
 
     try {
@@ -236,7 +280,7 @@ int main(int argc, char** argv) {
     try {
         if (*render)
             return run_render(scene, outs, spp, threads, seed, time_budget, quiet, exposure,
-                              luminance_out);
+                              luminance_out, falsecolor_out);
         if (*measure) return run_measure(mscene, margs, mthreads, mseed, mquiet);
     } catch (const sr::Error& e) {
         std::fprintf(stderr, "error: %s\n", e.what());

@@ -92,7 +92,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     std::vector<Value> values;
     for (size_t mi = 0; mi < scene.meters.size(); ++mi) {
         MeterReading r;
-        r.meter = &scene.meters[mi];
+        r.meter = scene.meters[mi];
         size_t n = scene.meters[mi].points.size();
         r.values.assign(n, 0);
         r.stderrs.assign(n, 0);
@@ -185,7 +185,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
 
     for (MeterReading& r : res.readings) {
         for (uint8_t c : r.converged) res.all_converged = res.all_converged && c;
-        if (r.meter->kind != MeterKind::Grid || r.values.empty()) continue;
+        if (r.meter.kind != MeterKind::Grid || r.values.empty()) continue;
         double sum = 0, var = 0;
         r.min = r.max = r.values[0];
         for (size_t k = 0; k < r.values.size(); ++k) {
@@ -240,7 +240,7 @@ std::string meters_json(const MeasureResult& res) {
     root["nonfinite"] = res.nonfinite;
     nlohmann::ordered_json meters = nlohmann::ordered_json::array();
     for (const MeterReading& r : res.readings) {
-        const Meter& m = *r.meter;
+        const Meter& m = r.meter;
         nlohmann::ordered_json j;
         j["name"] = m.name;
         j["type"] = m.type;
@@ -273,7 +273,7 @@ std::string meters_json(const MeasureResult& res) {
 std::string meters_csv(const MeasureResult& res) {
     std::string out = "meter,type,unit,index,x,y,z,value,stderr,samples,converged\n";
     for (const MeterReading& r : res.readings) {
-        const Meter& m = *r.meter;
+        const Meter& m = r.meter;
         for (size_t k = 0; k < r.values.size(); ++k) {
             Point3 p = m.points[k];
             out += fmt::format("{},{},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{},{}\n", m.name, m.type,

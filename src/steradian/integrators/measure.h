@@ -40,7 +40,7 @@ struct MeasureOptions {
 };
 
 struct MeterReading {
-    const Meter* meter = nullptr;
+    Meter meter;  ///< a copy, so a result outlives its scene
     std::vector<double> values;
     std::vector<double> stderrs;
     std::vector<int64_t> samples;   ///< samples spent on the reported estimate

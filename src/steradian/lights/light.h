@@ -135,12 +135,16 @@ struct GoniometricEmission {
     Float opening_area = 0;      ///< flat: the whole opening's area A
     Float sphere_radius = 0;     ///< > 0 for a spherical opening
     Float flux_lm = 0;           ///< of the whole distribution (before scale)
-    SampledSpectrum radiance(Vec3 w, const SampledWavelengths& lambda) const {
+    /// Radiance leaving a point of the opening with outward normal n in direction w; a
+    /// sphere emits only outwards (rays pass through the opening, which must not count the
+    /// far side as well).
+    SampledSpectrum radiance(Normal3 n, Vec3 w, const SampledWavelengths& lambda) const {
+        if (sphere_radius > 0 && dot(n, w) <= 0) return SampledSpectrum(0);
         Vec3 l = profile.local(w);
         Float proj = sphere_radius > 0 ? kPi * sqr(sphere_radius) : opening_area * std::abs(l.z);
-        if (!(proj > Float(1e-12) * opening_area) && sphere_radius <= 0) return SampledSpectrum(0);
+        if (!(proj > 0)) return SampledSpectrum(0);
         Float i = Float(profile.data->intensity_direction(l.x, l.y, l.z));
-        if (i <= 0) return SampledSpectrum(0);
+        if (!(i > 0)) return SampledSpectrum(0);
         return spectrum.sample(lambda) * (scale * i / proj);
     }
 };
@@ -162,7 +166,7 @@ struct DiffuseAreaLight {
 
     /// Emitted radiance leaving a point with geometric normal n in direction w.
     SampledSpectrum l(Normal3 n, Vec3 w, const SampledWavelengths& lambda) const {
-        if (goniometric) return goniometric->radiance(w, lambda);
+        if (goniometric) return goniometric->radiance(n, w, lambda);
         if (!two_sided && dot(n, w) < 0) return SampledSpectrum(0);
         return radiance.sample(lambda) * scale;
     }
