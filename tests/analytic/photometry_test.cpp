@@ -227,6 +227,51 @@ TEST(Goniometric, SphericalOpeningActsAsItsCentre) {
     EXPECT_NEAR(r.readings[0].values[0], 500.0, 1e-3 * 500);
 }
 
+// EULUMDAT: intensities in cd/klm scaled by the lamp flux. A rotationally symmetric file
+// (Isym 1) of 100 cd/klm with a 2000 lm lamp set is an isotropic 200 cd source: E = 200 / d^2.
+TEST(Goniometric, EulumdatFileIsScaledByLampFlux) {
+    TempDir t;
+    std::string ldt = "Test\n1\n1\n24\n15\n19\n10\nR\nN\nNo\nf.ldt\nD\n600\n600\n80\n0\n0\n"
+                      "0\n0\n0\n0\n100\n80\n1\n0\n1\n1\nLED\n2000\n3000K\n80\n25\n";
+    for (int i = 0; i < 10; ++i) ldt += "0.5\n";
+    for (int i = 0; i < 24; ++i) ldt += fmt::format("{}\n", 15 * i);
+    for (int i = 0; i < 19; ++i) ldt += fmt::format("{}\n", 10 * i);
+    for (int i = 0; i < 19; ++i) ldt += "100\n";
+    t.write("iso.ldt", ldt);
+    std::string s = std::string(kHeader) +
+                    "AttributeBegin\n Translate 0 0 2\n LightSource \"goniometric\" \"string filename\" \"iso.ldt\"\nAttributeEnd\n"
+                    "Meter \"illuminance\" \"point3 p\" [ 0 0 0  0 0 4 ] \"normal n\" [ 0 0 1  0 0 -1 ]\n";
+    MeasureResult r = measure_text(s, 1e-4, t.dir());
+    EXPECT_NEAR(r.readings[0].values[0], 50.0, 0.05);
+    EXPECT_NEAR(r.readings[0].values[1], 50.0, 0.05);
+}
+
+// Bad goniometric parameters are located errors naming the file.
+TEST(Goniometric, Errors) {
+    TempDir t;
+    t.write("a.ies", asymmetric_ies(-1, 1));
+    auto err = [&](const std::string& l) {
+        try {
+            measure_text(std::string(kHeader) + l + "\n", 1e-2, t.dir());
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(err("LightSource \"goniometric\"").find("filename"), std::string::npos);
+    EXPECT_NE(err("LightSource \"goniometric\" \"string filename\" \"missing.ies\"").find("missing.ies"),
+              std::string::npos);
+    EXPECT_NE(err("LightSource \"goniometric\" \"string filename\" \"a.ies\" \"string emission\" \"area\"")
+                  .find("luminous opening"),
+              std::string::npos);
+    EXPECT_NE(err("LightSource \"goniometric\" \"string filename\" \"a.ies\" \"string emission\" \"blob\"")
+                  .find("<test>:5:"),
+              std::string::npos);
+    t.write("bad.ies", "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 90 80\n0\n1 1 1\n");
+    EXPECT_NE(err("LightSource \"goniometric\" \"string filename\" \"bad.ies\"").find("bad.ies:5"),
+              std::string::npos);
+}
+
 // ---- meter types --------------------------------------------------------------------------
 
 // Irradiance of a spectrally flat point source: the photometric scale fixes

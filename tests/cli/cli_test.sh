@@ -81,5 +81,46 @@ check "negative --spp is rejected" test $? -ne 0
 "$bin" frobnicate > /dev/null 2>&1
 check "unknown subcommand is rejected" test $? -ne 0
 
+# measure: readings with standard errors, JSON (the documented keys), CSV, false colour;
+# render writes <output>.meters.json, --luminance and --falsecolor.
+cat > "$tmp/meters.pbrt" <<'SCENE'
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ] "string filename" "m.exr"
+Sampler "independent" "integer pixelsamples" [ 2 ]
+WorldBegin
+AttributeBegin
+  Translate 0 0 2
+  LightSource "point" "float scale" [ 100 ]
+AttributeEnd
+Meter "illuminance" "string name" "desk" "point3 p" [ 0 0 0  1 0 0 ] "normal n" [ 0 0 1 ]
+Meter "illuminancegrid" "string name" "workplane" "point3 corner" [ -1 -1 0 ] "vector3 u" [ 2 0 0 ]
+      "vector3 v" [ 0 2 0 ] "integer resolution" [ 4 3 ]
+SCENE
+"$bin" measure "$tmp/meters.pbrt" --json "$tmp/m.json" --csv "$tmp/m.csv" --falsecolor "$tmp/m.png" \
+  > "$tmp/measure.txt" 2> "$tmp/measure.err"
+check "measure exits 0" test $? -eq 0
+desk=$(awk -F, '$1 == "desk" && $4 == 0 {print $8}' "$tmp/m.csv")
+check "measure reports the desk reading (E = 100/2^2 = 25 lx to 0.1 %)" \
+  awk -v v="$desk" 'BEGIN { exit !(v > 24.975 && v < 25.025) }'
+check "measure prints grid statistics" grep -q "E_avg" "$tmp/measure.txt"
+check "measure --json writes the meters" grep -q '"meters"' "$tmp/m.json"
+for key in '"name": "desk"' '"type": "illuminance"' '"unit": "lx"' '"values"' '"stderr"' '"uniformity"'; do
+  check "JSON has $key" grep -q "$key" "$tmp/m.json"
+done
+check "CSV has a header and 14 rows" test "$(wc -l < "$tmp/m.csv")" -eq 15
+check "measure --falsecolor writes a PNG" test -s "$tmp/m.png"
+"$bin" measure "$tmp/small.pbrt" > "$tmp/nometer.txt" 2>&1
+check "measure without meters exits non-zero" test $? -ne 0
+check "measure without meters says so" grep -q "no Meter" "$tmp/nometer.txt"
+"$bin" render "$tmp/meters.pbrt" -o "$tmp/mr.exr" --luminance "$tmp/mr-y.exr" --falsecolor "$tmp/mr-fc.png" --quiet
+check "render with meters exits 0" test $? -eq 0
+check "render writes <output>.meters.json" grep -q '"workplane"' "$tmp/mr.meters.json"
+check "render --luminance writes an EXR" test -s "$tmp/mr-y.exr"
+check "render --falsecolor writes a PNG" test -s "$tmp/mr-fc.png"
+printf 'Camera "perspective"\nWorldBegin\nMeter "illuminance" "point3 p" [ 0 0 0 ]\n' > "$tmp/badm.pbrt"
+"$bin" measure "$tmp/badm.pbrt" > "$tmp/badm.txt" 2>&1
+check "bad meter exits non-zero" test $? -ne 0
+check "bad meter names file:line:col" grep -q "badm.pbrt:3:1" "$tmp/badm.txt"
+
 echo "cli: $pass passed, $fail failed"
 test "$fail" -eq 0
