@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "steradian/film/image_io.h"
 #include "steradian/integrators/measure.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
@@ -244,6 +245,44 @@ TEST(Goniometric, EulumdatFileIsScaledByLampFlux) {
     MeasureResult r = measure_text(s, 1e-4, t.dir());
     EXPECT_NEAR(r.readings[0].values[0], 50.0, 0.05);
     EXPECT_NEAR(r.readings[0].values[1], 50.0, 0.05);
+}
+
+// pbrt-v4's image goniometric light: an equal-area octahedral image in pbrt's light frame
+// (local y and z swapped), so the rows in the lower half of the image (v > 1/2) hold the
+// directions with local z > 0. An image that is 2 cd in the lower half and 0.5 cd in
+// the upper half lights a meter 2 m above with 2/4 lx and one 2 m below with 0.5/4 lx;
+// "power" rescales to the given flux, the image's flux being 4 pi times its mean.
+TEST(Goniometric, PbrtImageDistribution) {
+    TempDir t;
+    Image img;
+    img.width = img.height = 16;
+    img.channels = 3;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int c = 0; c < 3; ++c) img.data.push_back(y >= 8 ? 2.0f : 0.5f);
+    write_image(t.dir() + "/gonio.exr", img);
+    auto readings = [&](const std::string& params) {
+        std::string s = std::string(kHeader) +
+                        "LightSource \"goniometric\" \"string filename\" \"gonio.exr\" " + params + "\n"
+                        "Meter \"illuminance\" \"point3 p\" [ 0 0 2  0 0 -2 ] \"normal n\" [ 0 0 -1  0 0 1 ]\n";
+        return measure_text(s, 1e-4, t.dir()).readings[0].values;
+    };
+    std::vector<double> v = readings("");
+    EXPECT_NEAR(v[0], 2.0 / 4, 1e-3 * 2 / 4);
+    EXPECT_NEAR(v[1], 0.5 / 4, 1e-3 * 0.5 / 4);
+    v = readings("\"float power\" 100");
+    const double k = 100 / (4 * kPi * 1.25);
+    EXPECT_NEAR(v[0], k * 2.0 / 4, 1e-3 * k * 2 / 4);
+    Image rect = img;
+    rect.width = 8;
+    rect.data.resize(size_t(8) * 16 * 3);
+    write_image(t.dir() + "/rect.exr", rect);
+    try {
+        measure_text(std::string(kHeader) + "LightSource \"goniometric\" \"string filename\" \"rect.exr\"\n", 1e-2, t.dir());
+        ADD_FAILURE() << "a non-square image was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("square"), std::string::npos);
+    }
 }
 
 // Bad goniometric parameters are located errors naming the file.

@@ -35,13 +35,29 @@ std::optional<LightLiSample> GoniometricLight::sample_li(const LightSampleContex
     if (dist2 == 0) return std::nullopt;
     LightLiSample s;
     s.wi = d / std::sqrt(dist2);
-    Float i = profile.intensity(-s.wi);
+    Float i = image ? image->lookup(profile.light_from_world.vector(-s.wi)) : profile.intensity(-s.wi);
     if (!(i > 0)) return std::nullopt;
     s.L = spectrum.sample(lambda) * (scale * i / dist2);
     s.pdf_sa = 1;
     s.p_light = p;
     s.delta = true;
     return s;
+}
+
+Float GoniometricImage::lookup(Vec3 w) const {
+    Float len = length(w);
+    if (!(len > 0) || res <= 0) return 0;
+    // pbrt-v4's light frame has y and z swapped relative to the light's local frame.
+    Point2 uv = equal_area_sphere_to_square(Vec3(w.x, w.z, w.y) / len);
+    int x = std::clamp(int(uv.x * Float(res)), 0, res - 1);
+    int yy = std::clamp(int(uv.y * Float(res)), 0, res - 1);
+    return y[size_t(yy) * size_t(res) + size_t(x)];
+}
+
+Float GoniometricImage::mean() const {
+    double s = 0;
+    for (float v : y) s += v;
+    return y.empty() ? 0 : Float(s / double(y.size()));
 }
 
 // ---- spot -----------------------------------------------------------------------------

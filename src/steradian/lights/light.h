@@ -108,12 +108,24 @@ struct GoniometricProfile {
     Vec3 local(Vec3 w) const { return normalize(light_from_world.vector(w)); }
 };
 
-/// A photometric point source: I_e(w, lambda) = scale * I_v(w) * S(lambda), where S is the
+/// pbrt-v4's image goniometric distribution: a square single-channel image (RGB averaged)
+/// in Clarberg's equal-area octahedral layout (sampling/warp.h), looked up at the nearest
+/// pixel. As in pbrt-v4, the map's frame is the light's local frame with y and z swapped:
+/// the image centre is the light's local +y, its corners local -y.
+struct GoniometricImage {
+    int res = 0;
+    std::vector<float> y;  ///< res * res values, rows from the top
+    Float lookup(Vec3 w_local) const;
+    Float mean() const;
+};
+
+/// A goniometric point source: I_e(w, lambda) = scale * I_v(w) * S(lambda), where S is the
 /// lamp spectrum normalised to unit photometric value (so one scene unit of intensity is
-/// one candela, docs/units.md) and I_v the file's luminous intensity.
+/// one candela, docs/units.md) and I_v the file's luminous intensity (or the image value).
 struct GoniometricLight {
     Point3 p;
-    GoniometricProfile profile;
+    GoniometricProfile profile;  ///< photometric file (profile.data set), or
+    std::shared_ptr<const GoniometricImage> image;  ///< pbrt-v4 image
     Spectrum spectrum;  ///< normalised: integral of S(lambda) ybar(lambda) = 1
     Float scale = 1;
     Float flux_lm = 0;  ///< luminous flux of the tabulated distribution (lm, before scale)

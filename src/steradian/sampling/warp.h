@@ -250,4 +250,37 @@ inline Float invert_tent(Float x, Float r) {
     return t < 0 ? sqr(1 + t) / 2 : 1 - sqr(1 - t) / 2;
 }
 
+/// Clarberg's equal-area octahedral map ("Fast equal-area mapping of the (hemi)sphere using
+/// SIMD", JGT 13(3), 2008), as pbrt-v4 uses for environment and goniometric images: the unit
+/// square [0,1]^2 onto the unit sphere, each region of the square covering a solid angle
+/// 4 pi times its area. The upper hemisphere (z >= 0) is the diamond |u'| + |v'| <= 1 of
+/// (u', v') = 2 (u, v) - 1; the lower one the four corners, folded over the diamond's edges.
+inline Vec3 equal_area_square_to_sphere(Point2 p) {
+    Float u = 2 * p.x - 1, v = 2 * p.y - 1;
+    Float au = std::abs(u), av = std::abs(v);
+    Float signed_d = 1 - (au + av);  // > 0 inside the diamond (upper hemisphere)
+    Float r = 1 - std::abs(signed_d);
+    // Angle within the quadrant, 0 on the u axis, pi/2 on the v axis.
+    Float phi = (r == 0 ? 1 : (av - au) / r + 1) * (kPi / 4);
+    Float z = std::copysign(1 - r * r, signed_d);
+    Float k = r * std::sqrt(std::max(Float(0), 2 - r * r));
+    return {std::copysign(std::cos(phi) * k, u), std::copysign(std::sin(phi) * k, v), z};
+}
+
+/// Inverse of equal_area_square_to_sphere for a unit vector.
+inline Point2 equal_area_sphere_to_square(Vec3 w) {
+    Float ax = std::abs(w.x), ay = std::abs(w.y), az = std::min(std::abs(w.z), Float(1));
+    Float r = std::sqrt(1 - az);
+    Float phi = std::atan2(ay, ax);  // [0, pi/2]
+    Float v = r * phi * (2 / kPi), u = r - v;  // upper hemisphere: u' + v' = r
+    if (w.z < 0) {                              // fold across the diamond's edge
+        Float t = u;
+        u = 1 - v;
+        v = 1 - t;
+    }
+    u = std::copysign(u, w.x);
+    v = std::copysign(v, w.y);
+    return {(u + 1) / 2, (v + 1) / 2};
+}
+
 }  // namespace sr

@@ -444,3 +444,40 @@ TEST(Warp, TentChi2AndRoundTrip) {
 
 }  // namespace
 }  // namespace sr
+
+namespace sr {
+namespace {
+
+// The equal-area octahedral map and its inverse round-trip, and uniform points on the
+// square map to uniformly distributed directions: E[z] = 0, E[z^2] = 1/3, E[x y] = 0, and
+// each octant receives 1/8 of the points (binomial tolerance).
+TEST(EqualAreaMap, RoundTripAndUniformity) {
+    Pcg32 rng(7);
+    const int n = 200000;
+    double sz = 0, sz2 = 0, sxy = 0;
+    int octant[8] = {};
+    for (int i = 0; i < n; ++i) {
+        Point2 p(rng.next_float(), rng.next_float());
+        Vec3 w = equal_area_square_to_sphere(p);
+        ASSERT_NEAR(length(w), 1, 1e-5);
+        Point2 q = equal_area_sphere_to_square(w);
+        ASSERT_NEAR(q.x, p.x, 2e-4) << p.x << " " << p.y;
+        ASSERT_NEAR(q.y, p.y, 2e-4) << p.x << " " << p.y;
+        sz += w.z;
+        sz2 += w.z * w.z;
+        sxy += w.x * w.y;
+        ++octant[(w.x > 0) + 2 * (w.y > 0) + 4 * (w.z > 0)];
+    }
+    // Standard errors: sd(z) = 1/sqrt(3), sd(z^2) = sqrt(4/45), sd(xy) = sqrt(1/15).
+    EXPECT_NEAR(sz / n, 0, 4.5 * std::sqrt(1.0 / 3 / n));
+    EXPECT_NEAR(sz2 / n, 1.0 / 3, 4.5 * std::sqrt(4.0 / 45 / n));
+    EXPECT_NEAR(sxy / n, 0, 4.5 * std::sqrt(1.0 / 15 / n));
+    for (int o = 0; o < 8; ++o) EXPECT_NEAR(octant[o], n / 8.0, 4.5 * std::sqrt(n * (1.0 / 8) * (7.0 / 8)));
+    // Poles and the equator: (0.5, 0.5) is +z, the corners are -z, edge midpoints on the equator.
+    EXPECT_NEAR(equal_area_square_to_sphere(Point2(0.5f, 0.5f)).z, 1, 1e-6);
+    EXPECT_NEAR(equal_area_square_to_sphere(Point2(0, 0)).z, -1, 1e-6);
+    EXPECT_NEAR(equal_area_square_to_sphere(Point2(1, 0.5f)).x, 1, 1e-6);
+}
+
+}  // namespace
+}  // namespace sr

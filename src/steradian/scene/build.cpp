@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "steradian/accel/accel.h"
+#include "steradian/film/image_io.h"
 #include "steradian/lights/photometric/eulumdat.h"
 #include "steradian/lights/photometric/ies.h"
 #include "steradian/scene/mesh_io/ply.h"
@@ -812,12 +813,8 @@ private:
         if (!file)
             throw_error(l.loc, "{}: needs \"string filename\" (an .ies or .ldt photometric file)", what);
         const std::string ext = lower_extension(*file);
-        if (ext != ".ies" && ext != ".ldt")
-            throw_error(ps.find("filename")->loc,
-                        "{}: image-based goniometric distributions (\"{}\") are not supported yet; "
-                        "give an IES (.ies) or EULUMDAT (.ldt) file",
-                        what, *file);
         std::string path = resolve_path(m_d.base_dir, *file);
+        if (ext != ".ies" && ext != ".ldt") return make_image_goniometric(l, path, *file);
         auto data = std::make_shared<PhotometricData>(ext == ".ldt" ? read_eulumdat(path)
                                                                     : read_ies(path));
         // The lamp spectrum gives the shape only: normalised to unit photometric value, so
@@ -910,6 +907,54 @@ private:
         m_s.shapes.push_back(std::move(e));
         m_s.top_level_shapes.push_back(lum.shape);
         lum.emission = std::move(em);
+        return lum;
+    }
+
+    /// pbrt-v4's goniometric light: an equal-area image of relative intensity.
+    Luminaire make_image_goniometric(const LightDesc& l, const std::string& path,
+                                     const std::string& file) {
+        const ParamSet& ps = l.params;
+        const std::string what = "LightSource \"goniometric\"";
+        const SourceLoc& floc = ps.find("filename")->loc;
+        Image img;
+        try {
+            img = read_image(path, true);
+        } catch (const Error& e) {
+            throw_error(floc, "{}: {}", what, e.what());
+        }
+        if (img.width != img.height || img.width == 0)
+            throw_error(floc, "{}: \"{}\" is {}x{}; an equal-area goniometric image must be square",
+                        what, file, img.width, img.height);
+        auto gi = std::make_shared<GoniometricImage>();
+        gi->res = img.width;
+        gi->y.resize(size_t(img.width) * img.height);
+        const int nc = std::min(img.channels, 3);
+        for (size_t i = 0; i < gi->y.size(); ++i) {
+            double v = 0;
+            for (int c = 0; c < nc; ++c) v += img.data[i * size_t(img.channels) + size_t(c)];
+            v /= nc;
+            if (!std::isfinite(v))
+                throw_error(floc, "{}: \"{}\" has NaN or infinite pixels", what, file);
+            gi->y[i] = float(v);
+        }
+        Spectrum S = illum_param(ps, "I");
+        Float sc = ps.get_float("scale", 1) / photometric_or_fail(S, l.loc);
+        Float mean = gi->mean();
+        Float phi = ps.get_float("power", -1);
+        if (phi > 0) {
+            if (!(mean > 0)) throw_error(l.loc, "{}: \"{}\" is black; \"power\" cannot be met", what, file);
+            sc *= phi / (4 * kPi * mean);
+        }
+        ps.check_unused(what);
+        GoniometricLight g;
+        g.p = l.world_from_light.point(Point3(0, 0, 0));
+        g.profile.light_from_world = l.world_from_light.inverse();
+        g.image = std::move(gi);
+        g.spectrum = densely_sampled(S);
+        g.scale = sc;
+        g.flux_lm = 4 * kPi * mean;
+        Luminaire lum;
+        lum.point = std::move(g);
         return lum;
     }
 
