@@ -214,11 +214,13 @@ TEST(Goniometric, RectangularOpeningIsALambertianPanel) {
 }
 
 // A spherical opening of an isotropic distribution is a uniform sphere of radiance
-// I / (pi r^2); outside it the illuminance facing the centre is exactly I / d^2.
+// I / (pi r^2); outside it the illuminance facing the centre is exactly I / d^2. The
+// file's multipliers apply to the opening as to the point form.
 TEST(Goniometric, SphericalOpeningActsAsItsCentre) {
     TempDir t;
-    t.write("globe.ies", "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3 1 1 2 -0.5 -0.5 -0.5\n1 1 0\n"
-                         "0 90 180\n0\n500 500 500\n");
+    // 250 cd tabulated x candela multiplier 4 x ballast factor 0.5 = 500 cd.
+    t.write("globe.ies", "IESNA:LM-63-2002\nTILT=NONE\n1 -1 4 3 1 1 2 -0.5 -0.5 -0.5\n0.5 1 0\n"
+                         "0 90 180\n0\n250 250 250\n");
     std::string s = std::string(kHeader) +
                     "LightSource \"goniometric\" \"string filename\" \"globe.ies\"\n"
                     "Meter \"illuminance\" \"point3 p\" [ 0 0 -1  2 0 0 ] \"normal n\" [ 0 0 1  -1 0 0 ]\n";
