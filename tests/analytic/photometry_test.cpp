@@ -183,6 +183,24 @@ TEST(Goniometric, CandelaMultiplierScaleAndPower) {
     EXPECT_NEAR(reading("\"float power\" 1000"), 600 * k * 1000 / flux, 1e-3 * 600 * k * 1000 / flux);
 }
 
+// LM-63 TILT=INCLUDE: the multiplying factor at the mounting's lamp tilt ("tiltangle"),
+// linear between the tabulated angles: factors 1 at 0 deg and 0.5 at 90 deg give 0.75 at 45.
+TEST(Goniometric, TiltFactorAtTheMountingAngle) {
+    TempDir t;
+    t.write("tilt.ies", "IESNA:LM-63-2002\nTILT=INCLUDE\n1\n2\n0 90\n1 0.5\n"
+                        "1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 90 180\n0\n400 400 400\n");
+    auto reading = [&](const std::string& params) {
+        std::string s = std::string(kHeader) +
+                        "AttributeBegin\n Translate 0 0 2\n LightSource \"goniometric\" "
+                        "\"string filename\" \"tilt.ies\" " + params + "\nAttributeEnd\n"
+                        "Meter \"illuminance\" \"point3 p\" [ 0 0 0 ] \"normal n\" [ 0 0 1 ]\n";
+        return measure_text(s, 1e-4, t.dir()).readings[0].values[0];
+    };
+    EXPECT_NEAR(reading(""), 100, 0.1);
+    EXPECT_NEAR(reading("\"float tiltangle\" 90"), 50, 0.05);
+    EXPECT_NEAR(reading("\"float tiltangle\" 45"), 75, 0.075);
+}
+
 // A luminous opening carries the file's distribution: a 1 x 1 m rectangular opening with
 // I(gamma) = 1000 cos(gamma) cd has uniform radiance I / (A cos) = 1000 cd/m^2, i.e. it is
 // exactly CIE 171 case 5.3's Lambertian source; the floor points must match that case.
