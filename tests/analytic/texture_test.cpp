@@ -13,6 +13,8 @@
 namespace sr::test {
 namespace {
 
+void parse_and_build(const std::string& text) { build_scene(parse_pbrt_string(text, "<test>"), {}); }
+
 TEST(Texture, ImageMapTexelsComeBackAsTheirLinearRgb) {
     auto dir = std::filesystem::temp_directory_path() / "steradian_texture_test";
     std::filesystem::create_directories(dir);
@@ -62,6 +64,61 @@ Shape "bilinearmesh" "point3 P" [ -1 -1 0  1 -1 0  -1 1 0  1 1 0 ]
             }
         }
     std::filesystem::remove_all(dir);
+}
+
+// pbrt-v4's composite textures: a 2x2 checkerboard (uscale = vscale = 2) whose squares are
+// tex1 = "scale" (0.5 x a float "scale" texture 0.8 x 1 = 0.4) and tex2 = "mix" of 0.2 and
+// 0.6 with amount 0.25 (itself a float "mix": 0.25 = (1 - 0.5) 0 + 0.5 x 0.5), i.e.
+// 0.75 x 0.2 + 0.25 x 0.6 = 0.3. Spectrally flat values under a light of pi lux: each
+// square's luminance is its reflectance.
+TEST(Texture, CheckerboardScaleAndMix) {
+    std::string scene = R"(
+Scale -1 1 1
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
+Sampler "zsobol" "integer pixelsamples" [ 64 ]
+Integrator "path" "integer maxdepth" [ 1 ]
+PixelFilter "box"
+WorldBegin
+LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 3.14159265358979 ]
+Texture "k" "float" "scale" "float tex" 0.8 "float scale" 1
+Texture "a" "float" "mix" "float tex1" 0 "float tex2" 0.5 "float amount" 0.5
+Texture "s" "spectrum" "scale" "spectrum tex" [ 300 0.5 900 0.5 ] "texture scale" "k"
+Texture "m" "spectrum" "mix" "spectrum tex1" [ 300 0.2 900 0.2 ] "spectrum tex2" [ 300 0.6 900 0.6 ]
+    "texture amount" "a"
+Texture "checks" "spectrum" "checkerboard" "texture tex1" "s" "texture tex2" "m"
+    "float uscale" 2 "float vscale" 2
+Material "diffuse" "texture reflectance" "checks"
+Shape "bilinearmesh" "point3 P" [ -1 -1 0  1 -1 0  -1 1 0  1 1 0 ]
+    "point2 uv" [ 0 0  1 0  0 1  1 1 ]
+)";
+    Rendered r = render_string(scene);
+    // Block (i, j) (row j from the top) covers u in [i/2, (i+1)/2], v in [1 - (j+1)/2,
+    // 1 - j/2]: floor(2u) + floor(2v) = i + (1 - j), even -> tex1 (0.4), odd -> tex2 (0.3).
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            double expected = (i + 1 - j) % 2 == 0 ? 0.4 : 0.3;
+            int x0 = i == 0 ? 1 : 11, y0 = j == 0 ? 1 : 11;
+            MeanSe m = mean_se(region(r, x0, y0, x0 + 4, y0 + 4, 3));
+            EXPECT_NEAR(m.mean, expected, 4.5 * m.se + 1e-3) << "square " << i << "," << j;
+        }
+}
+
+TEST(Texture, CompositeTextureErrors) {
+    auto err = [](const std::string& tex) {
+        try {
+            parse_and_build(std::string("Camera \"perspective\"\nWorldBegin\n") + tex);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(err("Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" 3\n").find("3D"),
+              std::string::npos);
+    EXPECT_NE(err("Texture \"c\" \"spectrum\" \"mix\" \"texture tex1\" \"nope\"\n").find("unknown spectrum texture"),
+              std::string::npos);
+    EXPECT_NE(err("Texture \"c\" \"float\" \"scale\" \"float bogus\" 1\n").find("bogus"), std::string::npos);
 }
 
 }  // namespace

@@ -59,6 +59,41 @@ SampledSpectrum ImageSpectrumTexture::evaluate(const SurfaceHit& h,
     return SampledSpectrum(0);
 }
 
+Float ScaleFloatTexture::evaluate(const SurfaceHit& h) const {
+    Float sc = sr::evaluate(*scale, h);
+    return sc == 0 ? 0 : sr::evaluate(*tex, h) * sc;
+}
+
+Float MixFloatTexture::evaluate(const SurfaceHit& h) const {
+    Float a = sr::evaluate(*amount, h);
+    Float v1 = a != 1 ? sr::evaluate(*tex1, h) : 0, v2 = a != 0 ? sr::evaluate(*tex2, h) : 0;
+    return (1 - a) * v1 + a * v2;
+}
+
+Float CheckerboardFloatTexture::evaluate(const SurfaceHit& h) const {
+    return sr::evaluate(checkerboard_even(mapping, h.uv) ? *tex1 : *tex2, h);
+}
+
+SampledSpectrum ScaleSpectrumTexture::evaluate(const SurfaceHit& h,
+                                               const SampledWavelengths& lambda) const {
+    Float sc = sr::evaluate(*scale, h);
+    return sc == 0 ? SampledSpectrum(0) : sr::evaluate(*tex, h, lambda) * sc;
+}
+
+SampledSpectrum MixSpectrumTexture::evaluate(const SurfaceHit& h,
+                                             const SampledWavelengths& lambda) const {
+    Float a = sr::evaluate(*amount, h);
+    SampledSpectrum r(0);
+    if (a != 1) r += sr::evaluate(*tex1, h, lambda) * (1 - a);
+    if (a != 0) r += sr::evaluate(*tex2, h, lambda) * a;
+    return r;
+}
+
+SampledSpectrum CheckerboardSpectrumTexture::evaluate(const SurfaceHit& h,
+                                                      const SampledWavelengths& lambda) const {
+    return sr::evaluate(checkerboard_even(mapping, h.uv) ? *tex1 : *tex2, h, lambda);
+}
+
 Float evaluate(const FloatTexture& t, const SurfaceHit& h) {
     return std::visit([&](const auto& x) { return x.evaluate(h); }, t);
 }

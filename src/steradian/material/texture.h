@@ -42,8 +42,38 @@ struct ImageFloatTexture {
     Float evaluate(const SurfaceHit& h) const;
 };
 
-using FloatTexture = std::variant<ConstantFloatTexture, ImageFloatTexture>;
+struct ScaleFloatTexture;
+struct MixFloatTexture;
+struct CheckerboardFloatTexture;
+
+using FloatTexture = std::variant<ConstantFloatTexture, ImageFloatTexture, ScaleFloatTexture,
+                                  MixFloatTexture, CheckerboardFloatTexture>;
 Float evaluate(const FloatTexture& t, const SurfaceHit& h);
+
+/// pbrt-v4's 2D checkerboard: tex1 on the squares where floor(s) + floor(t) is even, tex2
+/// on the others ((s, t) from the uv mapping). Point-sampled: steradian has no ray
+/// differentials, so pbrt-v4's box-filtered edges (which only matter where a pixel covers
+/// several squares) are not reproduced.
+inline bool checkerboard_even(const UvMapping& m, Point2 uv) {
+    Point2 st = m.map(uv);
+    return (int64_t(std::floor(st.x)) + int64_t(std::floor(st.y))) % 2 == 0;
+}
+
+/// Composite textures own copies of their inputs (textures are immutable once built).
+struct ScaleFloatTexture {
+    std::shared_ptr<const FloatTexture> tex, scale;
+    Float evaluate(const SurfaceHit& h) const;
+};
+/// (1 - amount) tex1 + amount tex2.
+struct MixFloatTexture {
+    std::shared_ptr<const FloatTexture> tex1, tex2, amount;
+    Float evaluate(const SurfaceHit& h) const;
+};
+struct CheckerboardFloatTexture {
+    std::shared_ptr<const FloatTexture> tex1, tex2;
+    UvMapping mapping;
+    Float evaluate(const SurfaceHit& h) const;
+};
 
 struct ConstantSpectrumTexture {
     Spectrum value;
@@ -61,8 +91,32 @@ struct ImageSpectrumTexture {
     SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
 };
 
-using SpectrumTexture = std::variant<ConstantSpectrumTexture, ImageSpectrumTexture>;
+struct ScaleSpectrumTexture;
+struct MixSpectrumTexture;
+struct CheckerboardSpectrumTexture;
+
+using SpectrumTexture = std::variant<ConstantSpectrumTexture, ImageSpectrumTexture,
+                                     ScaleSpectrumTexture, MixSpectrumTexture,
+                                     CheckerboardSpectrumTexture>;
 SampledSpectrum evaluate(const SpectrumTexture& t, const SurfaceHit& h,
                          const SampledWavelengths& lambda);
+
+/// tex * scale (scale a float texture).
+struct ScaleSpectrumTexture {
+    std::shared_ptr<const SpectrumTexture> tex;
+    std::shared_ptr<const FloatTexture> scale;
+    SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
+};
+/// (1 - amount) tex1 + amount tex2, amount a float texture.
+struct MixSpectrumTexture {
+    std::shared_ptr<const SpectrumTexture> tex1, tex2;
+    std::shared_ptr<const FloatTexture> amount;
+    SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
+};
+struct CheckerboardSpectrumTexture {
+    std::shared_ptr<const SpectrumTexture> tex1, tex2;
+    UvMapping mapping;
+    SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
+};
 
 }  // namespace sr

@@ -387,6 +387,15 @@ private:
                 ps.get_string("filter", "bilinear");
                 ps.get_float("maxanisotropy", 8);
                 tex = it;
+            } else if (t.type == "scale") {
+                tex = ScaleFloatTexture{float_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
+            } else if (t.type == "mix") {
+                tex = MixFloatTexture{float_tex_arg(ps, "tex1", 0), float_tex_arg(ps, "tex2", 1),
+                                      float_tex_arg(ps, "amount", 0.5f)};
+            } else if (t.type == "checkerboard") {
+                check_checkerboard_dimension(t, ps);
+                tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1), float_tex_arg(ps, "tex2", 0),
+                                               read_mapping(t, ps)};
             } else {
                 unsupported(t, "Texture");
             }
@@ -415,10 +424,65 @@ private:
                 ps.check_unused(fmt::format("Texture \"{}\"", t.name));
                 m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
                 m_s.spectrum_textures.push_back(it);
+            } else if (t.type == "scale" || t.type == "mix" || t.type == "checkerboard") {
+                SpectrumTexture tex;
+                if (t.type == "scale") {
+                    tex = ScaleSpectrumTexture{spectrum_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
+                } else if (t.type == "mix") {
+                    tex = MixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0), spectrum_tex_arg(ps, "tex2", 1),
+                                             float_tex_arg(ps, "amount", 0.5f)};
+                } else {
+                    check_checkerboard_dimension(t, ps);
+                    tex = CheckerboardSpectrumTexture{spectrum_tex_arg(ps, "tex1", 1),
+                                                      spectrum_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
+                }
+                ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+                m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+                m_s.spectrum_textures.push_back(std::move(tex));
             } else {
                 unsupported(t, "Texture");
             }
         }
+    }
+
+    /// pbrt-v4's checkerboard has "dimension" 2 or 3; only the 2D (uv) form is supported.
+    static void check_checkerboard_dimension(const TextureDesc& t, const ParamSet& ps) {
+        int dim = ps.get_int("dimension", 2);
+        if (dim == 3)
+            throw_error(ps.find("dimension")->loc, "Texture \"{}\": 3D checkerboards are not supported yet", t.name);
+        if (dim != 2)
+            throw_error(ps.find("dimension")->loc, "Texture \"{}\": \"dimension\" must be 2 or 3, not {}", t.name, dim);
+    }
+
+    /// An input of a composite float texture: a copy of a named float texture, or a
+    /// constant (the float value given, else `def`).
+    std::shared_ptr<const FloatTexture> float_tex_arg(const ParamSet& ps, std::string_view name, Float def) {
+        if (auto tn = ps.find_texture(name)) {
+            auto it = m_float_tex.find(*tn);
+            if (it == m_float_tex.end()) {
+                const Param* p = ps.find(name);
+                throw_error(p ? p->loc : SourceLoc{}, "unknown float texture \"{}\"", *tn);
+            }
+            return std::make_shared<const FloatTexture>(m_s.float_textures[size_t(it->second)]);
+        }
+        return std::make_shared<const FloatTexture>(ConstantFloatTexture{ps.get_float(name, def)});
+    }
+
+    /// An input of a composite spectrum texture: a copy of a named spectrum texture, an
+    /// inline spectrum (as a reflectance-like value, like pbrt-v4's albedo textures), or the
+    /// constant `def`.
+    std::shared_ptr<const SpectrumTexture> spectrum_tex_arg(const ParamSet& ps, std::string_view name, Float def) {
+        if (auto tn = ps.find_texture(name)) {
+            auto it = m_spec_tex.find(*tn);
+            if (it == m_spec_tex.end()) {
+                const Param* p = ps.find(name);
+                throw_error(p ? p->loc : SourceLoc{}, "unknown spectrum texture \"{}\"", *tn);
+            }
+            return std::make_shared<const SpectrumTexture>(m_s.spectrum_textures[size_t(it->second)]);
+        }
+        Spectrum sp = ConstantSpectrum{def};
+        if (const Param* p = ps.find_spectrum(name)) sp = spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir);
+        return std::make_shared<const SpectrumTexture>(ConstantSpectrumTexture{densely_sampled(sp)});
     }
 
     /// A spectrum-texture index for material parameter `name`: a texture reference, an
