@@ -9,8 +9,12 @@
 #include "steradian/bsdf/conductor.h"
 #include "steradian/bsdf/dielectric.h"
 #include "steradian/bsdf/diffuse_transmission.h"
+#include "steradian/bsdf/lafortune.h"
 #include "steradian/bsdf/lambert.h"
+#include "steradian/bsdf/layered.h"
+#include "steradian/bsdf/phong.h"
 #include "steradian/bsdf/thin_dielectric.h"
+#include "steradian/bsdf/ward.h"
 
 namespace sr {
 
@@ -23,12 +27,18 @@ concept Lobe = requires(const L& l, Vec3 w, Float uc, Point2 u, TransportMode m)
 };
 
 using LobeVariant = std::variant<LambertLobe, DielectricLobe, ThinDielectricLobe, ConductorLobe,
-                                 DiffuseTransmissionLobe>;
+                                 DiffuseTransmissionLobe, PhongLobe, LafortuneLobe, WardLobe,
+                                 CoatedDiffuseLobe, CoatedConductorLobe>;
 static_assert(Lobe<LambertLobe>);
 static_assert(Lobe<DielectricLobe>);
 static_assert(Lobe<ThinDielectricLobe>);
 static_assert(Lobe<ConductorLobe>);
 static_assert(Lobe<DiffuseTransmissionLobe>);
+static_assert(Lobe<PhongLobe>);
+static_assert(Lobe<LafortuneLobe>);
+static_assert(Lobe<WardLobe>);
+static_assert(Lobe<CoatedDiffuseLobe>);
+static_assert(Lobe<CoatedConductorLobe>);
 
 class Bsdf {
   public:

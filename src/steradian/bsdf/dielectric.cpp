@@ -68,17 +68,24 @@ Float f_at(const TrowbridgeReitz& mf, Float eta, Vec3 wo, Vec3 wi, const HalfVec
     return btdf(mf, wo, wi, h.wm, h.etap, transmittance(eta, wo, wi, h), mode);
 }
 
-/// Solid-angle pdf of sample() producing wi, for a valid half vector h of (wo, wi): the
-/// visible-normal pdf of h.wm, times the Jacobian dwm/dwi (Walter et al. 2007: 1 / (4 |wo.wm|)
-/// for reflection, Eq. 14; Eq. 17 for refraction), times the probability R or T = 1 - R of
-/// the branch.
-Float pdf_at(const TrowbridgeReitz& mf, Float eta, Vec3 wo, Vec3 wi, const HalfVector& h) {
+/// Solid-angle density of wi given the branch, for a valid half vector h of (wo, wi): the
+/// visible-normal pdf of h.wm times the Jacobian dwm/dwi (Walter et al. 2007: 1 / (4 |wo.wm|)
+/// for reflection, Eq. 14; Eq. 17 for refraction).
+Float branch_pdf_at(const TrowbridgeReitz& mf, Vec3 wo, Vec3 wi, const HalfVector& h) {
     Float pdf_wm = mf.pdf(wo, h.wm);
-    if (h.reflect) {
-        Float r = fr_dielectric(dot(wo, h.wm), eta);
-        return pdf_wm / (4 * std::abs(dot(wo, h.wm))) * r;
-    }
-    return pdf_wm * refraction_jacobian(wo, wi, h.wm, h.etap) * transmittance(eta, wo, wi, h);
+    if (h.reflect) return pdf_wm / (4 * std::abs(dot(wo, h.wm)));
+    return pdf_wm * refraction_jacobian(wo, wi, h.wm, h.etap);
+}
+
+/// Probability R or T = 1 - R with which sample() takes h's branch at the microfacet h.wm.
+Float branch_prob_at(Float eta, Vec3 wo, Vec3 wi, const HalfVector& h) {
+    return h.reflect ? fr_dielectric(dot(wo, h.wm), eta) : transmittance(eta, wo, wi, h);
+}
+
+/// Solid-angle pdf of sample() producing wi, for a valid half vector h of (wo, wi): the
+/// branch density times the probability of the branch.
+Float pdf_at(const TrowbridgeReitz& mf, Float eta, Vec3 wo, Vec3 wi, const HalfVector& h) {
+    return branch_pdf_at(mf, wo, wi, h) * branch_prob_at(eta, wo, wi, h);
 }
 
 }  // namespace
@@ -142,6 +149,62 @@ Float DielectricLobe::pdf(Vec3 wo, Vec3 wi, TransportMode) const {
     std::optional<HalfVector> h = half_vector(wo, wi, eta);
     if (!h) return 0;
     return pdf_at(mf, eta, wo, wi, *h);
+}
+
+std::optional<BsdfSample> DielectricLobe::sample_branch(Vec3 wo, Point2 u, TransportMode mode,
+                                                        Branch branch, Float* branch_prob) const {
+    bool want_reflect = branch == Branch::Reflection;
+    if (wo.z == 0) return std::nullopt;
+    if (eta == 1) {
+        if (want_reflect) return std::nullopt;
+        *branch_prob = 1;
+        return BsdfSample{SampledSpectrum(1 / std::abs(wo.z)), -wo, 1,
+                          kLobeTransmission | kLobeSpecular, 1};
+    }
+    if (mf.effectively_smooth()) {
+        Float r = fr_dielectric(wo.z, eta);
+        if (want_reflect) {
+            if (r == 0) return std::nullopt;
+            Vec3 wi(-wo.x, -wo.y, wo.z);
+            *branch_prob = r;
+            return BsdfSample{SampledSpectrum(r / std::abs(wi.z)), wi, 1,
+                              kLobeReflection | kLobeSpecular, 1};
+        }
+        Vec3 wi;
+        Float etap = 1;
+        if (r >= 1 || !refract(wo, Vec3(0, 0, 1), eta, &etap, &wi) || wi.z == 0)
+            return std::nullopt;
+        Float ft = (1 - r) / std::abs(wi.z);
+        if (mode == TransportMode::Radiance) ft /= sqr(etap);
+        *branch_prob = 1 - r;
+        return BsdfSample{SampledSpectrum(ft), wi, 1, kLobeTransmission | kLobeSpecular, etap};
+    }
+
+    Vec3 wm = mf.sample_wm(wo, u);
+    Vec3 wi;
+    if (want_reflect) {
+        wi = reflect(wo, wm);
+        if (!same_hemisphere(wo, wi)) return std::nullopt;
+    } else {
+        if (!refract(wo, wm, eta, nullptr, &wi) || same_hemisphere(wo, wi) || wi.z == 0)
+            return std::nullopt;
+    }
+    // As in sample(): f and densities through the half vector of the returned direction.
+    std::optional<HalfVector> h = half_vector(wo, wi, eta);
+    if (!h || h->reflect != want_reflect) return std::nullopt;
+    Float pdf = branch_pdf_at(mf, wo, wi, *h);
+    if (pdf == 0) return std::nullopt;
+    *branch_prob = branch_prob_at(eta, wo, wi, *h);
+    return BsdfSample{SampledSpectrum(f_at(mf, eta, wo, wi, *h, mode)), wi, pdf,
+                      uint8_t((want_reflect ? kLobeReflection : kLobeTransmission) | kLobeGlossy),
+                      h->etap};
+}
+
+Float DielectricLobe::pdf_branch(Vec3 wo, Vec3 wi, Branch branch) const {
+    if (eta == 1 || mf.effectively_smooth()) return 0;
+    std::optional<HalfVector> h = half_vector(wo, wi, eta);
+    if (!h || h->reflect != (branch == Branch::Reflection)) return 0;
+    return branch_pdf_at(mf, wo, wi, *h);
 }
 
 }  // namespace sr

@@ -59,6 +59,22 @@ struct DielectricLobe {
     std::optional<BsdfSample> sample(Vec3 wo, Float uc, Point2 u, TransportMode mode) const;
     /// Solid-angle pdf of sample() producing wi (rough); 0 for smooth interfaces.
     Float pdf(Vec3 wo, Vec3 wi, TransportMode mode) const;
+
+    /// One branch of the interface, for layered lobes that must cross it or stay below it
+    /// (pbrt-v4's BxDFReflTransFlags).
+    enum class Branch : uint8_t { Reflection, Transmission };
+    /// sample() forced into `branch`: the same visible microfacet (rough) or the specular
+    /// direction (smooth), then always that branch, so pdf_sa is the density of this
+    /// restricted sampler (smooth: 1) and f the BSDF value as in sample(). *branch_prob
+    /// receives the probability with which sample() itself would have taken that branch at
+    /// that microfacet (R or 1 - R), so sample()'s density of wi is pdf_sa * *branch_prob.
+    /// Empty when the branch is impossible (reflection of an index-matched interface,
+    /// transmission under total internal reflection) or the direction lands on the wrong side.
+    std::optional<BsdfSample> sample_branch(Vec3 wo, Point2 u, TransportMode mode, Branch branch,
+                                            Float* branch_prob) const;
+    /// Solid-angle density of sample_branch(wo, ., ., branch) producing wi (rough); 0 for
+    /// smooth interfaces and for a wi of the other branch.
+    Float pdf_branch(Vec3 wo, Vec3 wi, Branch branch) const;
     uint8_t flags() const {
         if (eta == 1) return kLobeTransmission | kLobeSpecular;
         return kLobeReflection | kLobeTransmission |

@@ -1,5 +1,7 @@
 #include "steradian/material/material.h"
 
+#include "steradian/sampling/hash.h"
+
 namespace sr {
 
 namespace {
@@ -33,6 +35,54 @@ Float hero_eta(const Spectrum& eta, bool dispersive, SampledWavelengths& lambda)
     Float e = eta(lambda[0]);
     if (dispersive) lambda.terminate_secondary();
     return e > 0 ? e : 1;  // a tabulated spectrum is 0 outside its range
+}
+
+/// Diffuse and specular albedos of the Phong and Ward materials: each clamped to [0, 1] and
+/// multiplied by the builder's energy scale; where their sum still exceeds 1 (a texture can
+/// make it so), both are divided by the sum, per wavelength, so that kd + ks <= 1.
+std::pair<SampledSpectrum, SampledSpectrum> bounded_pair(SampledSpectrum kd, SampledSpectrum ks,
+                                                         Float scale) {
+    kd = clamped(kd) * scale;
+    ks = clamped(ks) * scale;
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+        Float sum = kd[i] + ks[i];
+        if (sum > 1) {
+            kd[i] /= sum;
+            ks[i] /= sum;
+        }
+    }
+    return {kd, ks};
+}
+
+/// The coated materials' lobe: interface `top` over `bottom`, the slab from lp at h.
+template <typename Bottom>
+LayeredLobe<Bottom> layered_lobe(const DielectricLobe& top, const Bottom& bottom,
+                                 const LayerParams& lp, const MaterialContext& ctx,
+                                 const SurfaceHit& h, const SampledWavelengths& lambda) {
+    const auto& ftex = *ctx.float_textures;
+    LayeredLobe<Bottom> l;
+    l.top = top;
+    l.bottom = bottom;
+    l.albedo = clamped(evaluate((*ctx.spectrum_textures)[lp.albedo], h, lambda));
+    l.thickness = std::max(Float(0), evaluate(ftex[lp.thickness], h));
+    // |g| = 1 is a delta phase function, which the walk's next-event terms cannot evaluate.
+    l.g = clamp(evaluate(ftex[lp.g], h), Float(-0.999), Float(0.999));
+    l.max_depth = lp.max_depth;
+    l.n_samples = lp.n_samples;
+    return l;
+}
+
+/// pbrt-v4's MixMaterial::ChooseMaterial: materials[1] with probability `amount`, decided by a
+/// hash of (p, wo, the two material ids) rather than by a sampler dimension, so that the choice
+/// is a pure function of the shading point and direction.
+int mix_choice(const MixMaterial& m, const MaterialContext& ctx, const SurfaceHit& h) {
+    Float amount = evaluate((*ctx.float_textures)[m.amount], h);
+    if (amount <= 0) return m.materials[0];
+    if (amount >= 1) return m.materials[1];
+    uint64_t bits =
+        hash(h.p.x, h.p.y, h.p.z, h.wo.x, h.wo.y, h.wo.z, m.materials[0], m.materials[1]);
+    Float u = Float(bits >> 40) * 0x1p-24f;  // 24 uniform bits in [0, 1)
+    return amount < u ? m.materials[0] : m.materials[1];
 }
 
 }  // namespace
@@ -71,6 +121,52 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
                 }
                 return Bsdf(shading_frame(h), h.ng,
                             ConductorLobe{eta, k, microfacets(mat.roughness, ctx, h)});
+            } else if constexpr (std::is_same_v<T, PhongMaterial>) {
+                auto [kd, ks] = bounded_pair(evaluate(tex[mat.kd], h, lambda),
+                                             evaluate(tex[mat.ks], h, lambda), mat.energy_scale);
+                Float n = std::max(Float(0), evaluate((*ctx.float_textures)[mat.exponent], h));
+                return Bsdf(shading_frame(h), h.ng, PhongLobe{kd, ks, n, mat.absorb});
+            } else if constexpr (std::is_same_v<T, LafortuneMaterial>) {
+                LafortuneLobe l;
+                l.rho_d = clamped(evaluate(tex[mat.diffuse], h, lambda));
+                l.lobes = mat.lobes;
+                l.count = mat.count;
+                return Bsdf(shading_frame(h), h.ng, l);
+            } else if constexpr (std::is_same_v<T, WardMaterial>) {
+                auto [kd, ks] = bounded_pair(evaluate(tex[mat.kd], h, lambda),
+                                             evaluate(tex[mat.ks], h, lambda), mat.energy_scale);
+                const auto& ftex = *ctx.float_textures;
+                Float ax = std::max(WardMaterial::kMinAlpha, evaluate(ftex[mat.alpha_x], h));
+                Float ay = std::max(WardMaterial::kMinAlpha, evaluate(ftex[mat.alpha_y], h));
+                return Bsdf(shading_frame(h), h.ng, WardLobe{kd, ks, ax, ay});
+            } else if constexpr (std::is_same_v<T, CoatedDiffuseMaterial>) {
+                Float eta = hero_eta(mat.eta, mat.dispersive, lambda);
+                DielectricLobe top{eta, microfacets(mat.roughness, ctx, h)};
+                LambertLobe base{clamped(evaluate(tex[mat.reflectance], h, lambda))};
+                return Bsdf(shading_frame(h), h.ng,
+                            layered_lobe(top, base, mat.layer, ctx, h, lambda));
+            } else if constexpr (std::is_same_v<T, CoatedConductorMaterial>) {
+                Float eta = hero_eta(mat.interface_eta, mat.dispersive, lambda);
+                DielectricLobe top{eta, microfacets(mat.interface_roughness, ctx, h)};
+                SampledSpectrum ce, ck;
+                if (mat.reflectance >= 0) {
+                    // As "conductor": eta = 1, k from the normal-incidence reflectance.
+                    SampledSpectrum r = clamped(evaluate(tex[mat.reflectance], h, lambda));
+                    ce = SampledSpectrum(1);
+                    for (int i = 0; i < kSpectrumSamples; ++i) {
+                        Float ri = std::min(r[i], Float(0.9999));
+                        ck[i] = 2 * std::sqrt(ri) / std::sqrt(1 - ri);
+                    }
+                } else {
+                    ce = mat.conductor_eta.sample(lambda);
+                    ck = mat.conductor_k.sample(lambda);
+                }
+                // The base sits under the coating: its IOR relative to the coating's.
+                ConductorLobe base{ce / eta, ck / eta, microfacets(mat.conductor_roughness, ctx, h)};
+                return Bsdf(shading_frame(h), h.ng,
+                            layered_lobe(top, base, mat.layer, ctx, h, lambda));
+            } else if constexpr (std::is_same_v<T, MixMaterial>) {
+                return make_bsdf((*ctx.materials)[mix_choice(mat, ctx, h)], ctx, h, lambda);
             } else {
                 SampledSpectrum r = clamped(evaluate(tex[mat.reflectance], h, lambda) * mat.scale);
                 SampledSpectrum t = clamped(evaluate(tex[mat.transmittance], h, lambda) * mat.scale);

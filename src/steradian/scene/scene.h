@@ -93,7 +93,9 @@ public:
     bool intersect(const Ray& ray, SurfaceHit& h) const;
     /// True if anything blocks the ray in (0, ray.t_max).
     bool occluded(const Ray& ray) const;
-    MaterialContext material_context() const { return {&spectrum_textures, &float_textures}; }
+    MaterialContext material_context() const {
+        return {&spectrum_textures, &float_textures, &materials};
+    }
 
 private:
     std::unique_ptr<Accel> m_accel;
