@@ -20,7 +20,9 @@
 //   estimates (the seeds change with a common rotation about the normal, which leaves an
 //   isotropic BSDF unchanged);
 // - mix: the choice frequency is "amount", the albedo is the amount-weighted average of the
-//   two materials' albedos, the choice is a deterministic function of (p, wo).
+//   two materials' albedos, the choice is a deterministic function of (p, wo);
+// - the interface's branch-restricted sampling used by the walks (chi-square against its pdf,
+//   and pdf_sa times the branch probability equals the unrestricted pdf).
 #include "steradian/bsdf/layered.h"
 
 #include <gtest/gtest.h>
@@ -121,8 +123,7 @@ Channels f_albedo_channels(const L& lobe, Vec3 wo, TransportMode mode, int n, ui
 
 /// Directional albedo from sample() weights per wavelength channel.
 template <typename L>
-Channels sample_albedo_channels(const L& lobe, Vec3 wo, TransportMode mode, int n,
-                                uint64_t seed) {
+Channels sample_albedo_channels(const L& lobe, Vec3 wo, TransportMode mode, int n, uint64_t seed) {
     Channels a;
     Pcg32 rng(seed);
     for (int k = 0; k < n; ++k) {
@@ -253,7 +254,8 @@ SamplingRun run_cells(const L& lobe, Vec3 wo, TransportMode mode, int n_samples,
         Accum fa, pa;
         for (int k = 0; k < per_cell; ++k) {
             int sx = k % strata, sy = (k / strata) % strata;
-            Point2 u{Float((sx + rng.next_float()) / strata), Float((sy + rng.next_float()) / strata)};
+            Point2 u{Float((sx + rng.next_float()) / strata),
+                     Float((sy + rng.next_float()) / strata)};
             Vec3 wi = grid.point(c, u, wo.z);
             fa.add(double(lobe.f(wo, wi, mode)[0]) * std::abs(wi.z));
             pa.add(double(lobe.pdf(wo, wi, mode)));
@@ -296,7 +298,8 @@ struct AnyLobe {
 template <typename L>
 AnyLobe erase(const char* name, L lobe) {
     return AnyLobe{Config{
-        name, [lobe](Vec3 wo, Float uc, Point2 u, TransportMode m) { return lobe.sample(wo, uc, u, m); },
+        name,
+        [lobe](Vec3 wo, Float uc, Point2 u, TransportMode m) { return lobe.sample(wo, uc, u, m); },
         [lobe](Vec3 wo, Vec3 wi, TransportMode m) { return lobe.f(wo, wi, m); },
         [lobe](Vec3 wo, Vec3 wi, TransportMode m) { return lobe.pdf(wo, wi, m); }}};
 }
@@ -355,11 +358,12 @@ TEST(Layered, SamplingIsUnbiasedForFAndPdfIsItsDensity) {
             CellReport rf = compare_cells(run.weight_mean, run.weight_se, run.f_int, run.f_int_se);
             CellReport rp = compare_cells(run.freq, run.freq_se, run.pdf_int, run.pdf_int_se);
             double frac = run.nonspecular.mean(), frac_se = run.nonspecular.se();
-            std::printf("[layered] %s, theta_o %g: f vs sample p = %.3g (chi2 %.1f / %d, worst "
-                        "%s); pdf vs sample p = %.3g (chi2 %.1f / %d, worst %s); pdf integral "
-                        "%.5f +- %.5f, non-specular fraction %.5f +- %.5f\n",
-                        lobe.c.name, t, rf.p, rf.chi2, rf.dof, rf.worst.c_str(), rp.p, rp.chi2,
-                        rp.dof, rp.worst.c_str(), run.pdf_total, run.pdf_total_se, frac, frac_se);
+            std::printf(
+                "[layered] %s, theta_o %g: f vs sample p = %.3g (chi2 %.1f / %d, worst "
+                "%s); pdf vs sample p = %.3g (chi2 %.1f / %d, worst %s); pdf integral "
+                "%.5f +- %.5f, non-specular fraction %.5f +- %.5f\n",
+                lobe.c.name, t, rf.p, rf.chi2, rf.dof, rf.worst.c_str(), rp.p, rp.chi2, rp.dof,
+                rp.worst.c_str(), run.pdf_total, run.pdf_total_se, frac, frac_se);
             EXPECT_GT(rf.p, alpha) << lobe.c.name << " theta " << t << ": " << rf.worst;
             EXPECT_GT(rp.p, alpha) << lobe.c.name << " theta " << t << ": " << rp.worst;
             // The pdf integrates to the probability of a non-specular sample (the floor
@@ -379,11 +383,13 @@ TEST(Layered, LosslessStacksHaveUnitAlbedo) {
         CoatedDiffuseLobe lobe;
     };
     const Case cases[] = {
-        {"no slab", coated_diffuse(1.5f, {}, SampledSpectrum(1), Slab{0, SampledSpectrum(0), 0, 1000, 1})},
+        {"no slab",
+         coated_diffuse(1.5f, {}, SampledSpectrum(1), Slab{0, SampledSpectrum(0), 0, 1000, 1})},
         {"scattering slab albedo 1, g 0.5",
          coated_diffuse(1.5f, {}, SampledSpectrum(1), Slab{1, SampledSpectrum(1), 0.5f, 1000, 1})},
         {"eta 1.33, thin scattering slab g -0.4",
-         coated_diffuse(1.33f, {}, SampledSpectrum(1), Slab{0.05f, SampledSpectrum(1), -0.4f, 1000, 1})},
+         coated_diffuse(1.33f, {}, SampledSpectrum(1),
+                        Slab{0.05f, SampledSpectrum(1), -0.4f, 1000, 1})},
     };
     uint64_t seed = 50;
     for (const Case& c : cases) {
@@ -395,9 +401,10 @@ TEST(Layered, LosslessStacksHaveUnitAlbedo) {
                 // f() leaves out the coating's specular reflection R (a delta): add it.
                 Accum f = f_albedo(c.lobe, wo, mode, 20000, ++seed);
                 double r = fr_dielectric(std::abs(wo.z), c.lobe.top.eta);
-                std::printf("[layered] lossless %s, theta %g: sample %.6f, R + integral of f "
-                            "%.5f +- %.5f\n",
-                            c.name, t, s.mean(), r + f.mean(), f.se());
+                std::printf(
+                    "[layered] lossless %s, theta %g: sample %.6f, R + integral of f "
+                    "%.5f +- %.5f\n",
+                    c.name, t, s.mean(), r + f.mean(), f.se());
                 EXPECT_NEAR(r + f.mean(), 1, kZ * f.se()) << c.name << " theta " << t;
                 EXPECT_LT(f.se(), 0.02);
             }
@@ -427,9 +434,10 @@ TEST(Layered, AlbedoAtMostOne) {
                 EXPECT_LE(s.mean(), 1 + kZ * s.se()) << lobe.c.name << " " << t << " " << ch;
                 EXPECT_LE(f.mean(), 1 + kZ * f.se()) << lobe.c.name << " " << t << " " << ch;
             }
-            std::printf("[layered] %s, theta %g: albedo (channel 0) sample %.4f +- %.4f, "
-                        "integral of f %.4f +- %.4f\n",
-                        lobe.c.name, t, sa[0].mean(), sa[0].se(), fa[0].mean(), fa[0].se());
+            std::printf(
+                "[layered] %s, theta %g: albedo (channel 0) sample %.4f +- %.4f, "
+                "integral of f %.4f +- %.4f\n",
+                lobe.c.name, t, sa[0].mean(), sa[0].se(), fa[0].mean(), fa[0].se());
         }
     }
     // White base under a rough coat: the loss shrinks with the roughness, towards the lossless
@@ -481,8 +489,8 @@ TEST(Layered, BlackBaseReflectsTheFresnelReflectance) {
 
 // 2 E_3(tau) = 2 int_0^1 mu exp(-tau / mu) d mu: the cosine-weighted transmittance of a slab.
 double two_e3(double tau) {
-    return 2 * simpson_1d([&](double mu) { return mu > 0 ? mu * std::exp(-tau / mu) : 0.0; }, 0,
-                          1, 20000);
+    return 2 * simpson_1d([&](double mu) { return mu > 0 ? mu * std::exp(-tau / mu) : 0.0; }, 0, 1,
+                          20000);
 }
 
 // An index-matched coating (eta 1) over a Lambertian base through an absorbing slab: light goes
@@ -500,7 +508,8 @@ TEST(Layered, AbsorbingSlabFollowsBeerLambert) {
                 double expected =
                     rho / kPi * std::exp(-tau / double(wo.z)) * std::exp(-tau / double(wi.z));
                 // One path only: the estimate is exact (up to float rounding).
-                EXPECT_NEAR(lobe.f(wo, wi, TransportMode::Radiance)[0], expected, 2e-5 * expected + 1e-30)
+                EXPECT_NEAR(lobe.f(wo, wi, TransportMode::Radiance)[0], expected,
+                            2e-5 * expected + 1e-30)
                     << tau << " " << rho;
             }
             for (double t : {0.0, 50.0, 80.0}) {
@@ -554,7 +563,8 @@ TEST(Layered, ReciprocalInExpectation) {
                 imp.add(lobe.f(wi, wo, TransportMode::Importance)[0]);
             }
             double se = std::sqrt(sqr(oi.se()) + sqr(io.se()));
-            EXPECT_NEAR(oi.mean(), io.mean(), kZ * se) << lobe.c.name << " " << pr[0] << " " << pr[1];
+            EXPECT_NEAR(oi.mean(), io.mean(), kZ * se)
+                << lobe.c.name << " " << pr[0] << " " << pr[1];
             double se2 = std::sqrt(sqr(oi.se()) + sqr(imp.se()));
             EXPECT_NEAR(oi.mean(), imp.mean(), kZ * se2) << lobe.c.name;
             EXPECT_GT(oi.mean(), 0) << lobe.c.name;
@@ -601,16 +611,76 @@ TEST(Layered, DeterministicTwoSidedOpaque) {
 // (pbrt-v4's convention: maxdepth counts the events below the interface).
 TEST(Layered, MaxDepthOneKeepsOnlyTheCoatingReflection) {
     DielectricLobe top{1.5f, {0.3f, 0.3f}};
-    CoatedDiffuseLobe lobe =
-        coated_diffuse(1.5f, {0.3f, 0.3f}, SampledSpectrum(1), Slab{0, SampledSpectrum(0), 0, 1, 1});
+    CoatedDiffuseLobe lobe = coated_diffuse(1.5f, {0.3f, 0.3f}, SampledSpectrum(1),
+                                            Slab{0, SampledSpectrum(0), 0, 1, 1});
     Pcg32 rng(5);
     for (int k = 0; k < 200; ++k) {
         Vec3 wo = sample_uniform_hemisphere({rng.next_float(), rng.next_float()});
         Vec3 wi = sample_uniform_hemisphere({rng.next_float(), rng.next_float()});
-        EXPECT_EQ(lobe.f(wo, wi, TransportMode::Radiance)[0], top.f(wo, wi, TransportMode::Radiance)[0]);
+        EXPECT_EQ(lobe.f(wo, wi, TransportMode::Radiance)[0],
+                  top.f(wo, wi, TransportMode::Radiance)[0]);
         EXPECT_EQ(lobe.pdf(wo, wi, TransportMode::Radiance),
                   std::max(top.pdf(wo, wi, TransportMode::Radiance), CoatedDiffuseLobe::kPdfFloor));
     }
+}
+
+// The interface sampling the walks rely on: DielectricLobe::sample_branch against
+// pdf_branch (chi-square), and its relation to the unrestricted lobe: the same f, and
+// pdf_sa * branch probability = pdf().
+TEST(Layered, DielectricBranchSamplingMatchesItsPdf) {
+    using Branch = DielectricLobe::Branch;
+    const TrowbridgeReitz rough[] = {{0.3f, 0.3f}, {0.1f, 0.4f}};
+    const double thetas[] = {30, 80, 150};  // 150: from inside (total internal reflection)
+    const int tests = 2 * 2 * 3;
+    const double alpha = sidak_alpha(0.01, tests);
+    uint64_t seed = 700;
+    for (const TrowbridgeReitz& mf : rough) {
+        DielectricLobe lobe{1.5f, mf};
+        for (Branch b : {Branch::Reflection, Branch::Transmission}) {
+            for (double t : thetas) {
+                Vec3 wo = direction_deg(t);
+                testing::SphereChi2Config cfg;
+                cfg.seed = ++seed;
+                cfg.sample_count = 300000;
+                testing::SphereChi2Outcome r = testing::sphere_chi2(
+                    [&](Pcg32& rng) -> std::optional<Vec3> {
+                        Float prob = 0;
+                        auto s = lobe.sample_branch(wo, {rng.next_float(), rng.next_float()},
+                                                    TransportMode::Radiance, b, &prob);
+                        if (!s) return std::nullopt;
+                        EXPECT_NEAR(s->pdf_sa, lobe.pdf_branch(wo, s->wi, b), 1e-3 * s->pdf_sa);
+                        EXPECT_NEAR(s->pdf_sa * prob, lobe.pdf(wo, s->wi, TransportMode::Radiance),
+                                    1e-3 * s->pdf_sa * prob + 1e-7);
+                        EXPECT_NEAR(s->f[0], lobe.f(wo, s->wi, TransportMode::Radiance)[0],
+                                    1e-3 * s->f[0]);
+                        return s->wi;
+                    },
+                    [&](Vec3 wi) { return lobe.pdf_branch(wo, wi, b); }, cfg);
+                std::printf("[chi2] dielectric branch %s alpha (%g, %g) theta %g: %s\n",
+                            b == Branch::Reflection ? "R" : "T", mf.alpha_x, mf.alpha_y, t,
+                            r.summary().c_str());
+                EXPECT_GT(r.chi2.p_value, alpha) << r.tables();
+            }
+        }
+    }
+    // Smooth: the specular direction with probability 1, weight R or T.
+    DielectricLobe smooth{1.5f, {}};
+    Vec3 wo = direction_deg(40);
+    Float r = fr_dielectric(wo.z, 1.5f), prob = 0;
+    auto sr = smooth.sample_branch(wo, {0.5f, 0.5f}, TransportMode::Importance, Branch::Reflection,
+                                   &prob);
+    ASSERT_TRUE(sr);
+    EXPECT_EQ(sr->pdf_sa, 1);
+    EXPECT_FLOAT_EQ(prob, r);
+    EXPECT_FLOAT_EQ(sr->f[0] * sr->wi.z, r);
+    auto st = smooth.sample_branch(wo, {0.5f, 0.5f}, TransportMode::Importance,
+                                   Branch::Transmission, &prob);
+    ASSERT_TRUE(st);
+    EXPECT_FLOAT_EQ(prob, 1 - r);
+    EXPECT_FLOAT_EQ(st->f[0] * std::abs(st->wi.z), 1 - r);
+    // Beyond the critical angle (41.8 degrees) from inside, transmission is impossible.
+    EXPECT_FALSE(smooth.sample_branch(direction_deg(130), {0.5f, 0.5f}, TransportMode::Radiance,
+                                      Branch::Transmission, &prob));
 }
 
 // ---- mix ------------------------------------------------------------------------------------
@@ -681,8 +751,9 @@ TEST(Mix, ChoosesByAmountAndAveragesAlbedos) {
     double se_choice = std::sqrt(amount * (1 - amount) / n);
     EXPECT_NEAR(chose1.mean(), amount, kZ * se_choice);
     double expected = (1 - amount) * 0.2 + amount * 1.0;
-    std::printf("[mix] chose material 1 in %.4f (amount %.2f); albedo %.4f +- %.4f, expected %.4f\n",
-                chose1.mean(), amount, albedo.mean(), albedo.se(), expected);
+    std::printf(
+        "[mix] chose material 1 in %.4f (amount %.2f); albedo %.4f +- %.4f, expected %.4f\n",
+        chose1.mean(), amount, albedo.mean(), albedo.se(), expected);
     EXPECT_NEAR(albedo.mean(), expected, kZ * albedo.se());
 
     // The choice depends on wo as well as on p (pbrt-v4 hashes both).
@@ -699,10 +770,11 @@ TEST(Mix, ChoosesByAmountAndAveragesAlbedos) {
 
     // amount 0 and 1 select one material without hashing.
     w.floats[size_t(mix.amount)] = ConstantFloatTexture{0};
-    EXPECT_TRUE(std::holds_alternative<LambertLobe>(make_bsdf(w.materials[2], ctx, h, lambda)->lobe()));
-    w.floats[size_t(mix.amount)] = ConstantFloatTexture{1};
     EXPECT_TRUE(
-        std::holds_alternative<CoatedDiffuseLobe>(make_bsdf(w.materials[2], ctx, h, lambda)->lobe()));
+        std::holds_alternative<LambertLobe>(make_bsdf(w.materials[2], ctx, h, lambda)->lobe()));
+    w.floats[size_t(mix.amount)] = ConstantFloatTexture{1};
+    EXPECT_TRUE(std::holds_alternative<CoatedDiffuseLobe>(
+        make_bsdf(w.materials[2], ctx, h, lambda)->lobe()));
 }
 
 }  // namespace

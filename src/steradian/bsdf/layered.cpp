@@ -88,7 +88,9 @@ struct Random {
     }
 };
 
-Pcg32 stream(Vec3 a, Vec3 b, uint32_t tag) { return Pcg32(hash(a.x, a.y, a.z, b.x, b.y, b.z, tag)); }
+Pcg32 stream(Vec3 a, Vec3 b, uint32_t tag) {
+    return Pcg32(hash(a.x, a.y, a.z, b.x, b.y, b.z, tag));
+}
 
 bool bad(const std::optional<BsdfSample>& s) {
     return !s || s->f.is_zero() || !(s->pdf_sa > 0) || s->wi.z == 0;
@@ -136,11 +138,12 @@ Estimate walk(const LayeredLobe<Bottom>& l, Vec3 wo, Vec3 wi, TransportMode mode
         std::optional<BsdfSample> ex =
             top.sample_branch(wi, r.pair(), adjoint(mode), Branch::Transmission, &c_ex);
         const bool have_ex = !bad(ex);
-        if (!have_ex && top_specular) continue;  // no way out along wi
+        if (!have_ex && top_specular) continue;            // no way out along wi
         const Vec3 v = have_ex ? ex->wi : Vec3(0, 0, -1);  // the interface's wo leaving along wi
         const Vec3 w_up = -v;  // the travel direction inside that leaves along wi
         const Float q_v = have_ex ? ex->pdf_sa : 0;
-        const SampledSpectrum ex_weight = have_ex ? ex->f / q_v : SampledSpectrum(0);  // f(v, wi) / q_v
+        const SampledSpectrum ex_weight =
+            have_ex ? ex->f / q_v : SampledSpectrum(0);  // f(v, wi) / q_v
         // Density of sample() leaving along wi, per unit density of travelling along w_up
         // from a vertex and arriving unscattered: smooth, the refraction probability times the
         // Jacobian d omega_v / d omega_wi = |cos wi| / (eta^2 |cos v|) (Snell; radiance
@@ -189,7 +192,8 @@ Estimate walk(const LayeredLobe<Bottom>& l, Vec3 wo, Vec3 wi, TransportMode mode
                     if (!top_specular && can_exit && wn.z > 0) {
                         // Exit along the sampled direction.
                         Float ph = hg_phase(dot(w, wn), l.g);
-                        Float wt = power_heuristic(ph, top.pdf_branch(wi, -wn, Branch::Transmission));
+                        Float wt =
+                            power_heuristic(ph, top.pdf_branch(wi, -wn, Branch::Transmission));
                         Float tr = slab_tr(d - zp, wn);
                         if constexpr (kF) e.f += beta * top.f(-wn, wi, mode) * (tr * wt);
                         if constexpr (kPdf) e.pdf += beta_p * top.pdf(-wn, wi, mode) * tr * wt;
@@ -237,10 +241,10 @@ Estimate walk(const LayeredLobe<Bottom>& l, Vec3 wo, Vec3 wi, TransportMode mode
             w = bs->wi;
             if (!top_specular && can_exit) {
                 // Exit along the base's sampled direction.
-                Float wt = bottom_specular
-                               ? 1
-                               : power_heuristic(bs->pdf_sa,
-                                                 top.pdf_branch(wi, -w, Branch::Transmission));
+                Float wt =
+                    bottom_specular
+                        ? 1
+                        : power_heuristic(bs->pdf_sa, top.pdf_branch(wi, -w, Branch::Transmission));
                 Float tr = slab_tr(d, w);
                 if constexpr (kF) e.f += beta * top.f(-w, wi, mode) * (tr * wt);
                 if constexpr (kPdf)
@@ -314,8 +318,8 @@ std::optional<BsdfSample> LayeredLobe<Bottom>::sample(Vec3 wo_in, Float uc, Poin
     std::optional<BsdfSample> bs = top.sample(wo, uc, u, mode);
     if (bad(bs)) return std::nullopt;
     if (bs->is_reflection()) {
-        if (bs->is_specular()) return flip ? BsdfSample{bs->f, -bs->wi, bs->pdf_sa, bs->flags, 1}
-                                           : *bs;
+        if (bs->is_specular())
+            return flip ? BsdfSample{bs->f, -bs->wi, bs->pdf_sa, bs->flags, 1} : *bs;
         return finish(weight(*bs), 0, bs->wi, bs->flags);
     }
 
@@ -365,8 +369,9 @@ std::optional<BsdfSample> LayeredLobe<Bottom>::sample(Vec3 wo_in, Float uc, Poin
         prob *= t->pdf_sa;
         specular &= t->is_specular();
         if (t->is_transmission()) {
-            uint8_t fl = kLobeReflection |
-                         (specular ? kLobeSpecular : diffuse ? kLobeDiffuse : kLobeGlossy);
+            uint8_t fl = kLobeReflection | (specular  ? kLobeSpecular
+                                            : diffuse ? kLobeDiffuse
+                                                      : kLobeGlossy);
             return finish(beta, prob, t->wi, fl);
         }
         w = t->wi;

@@ -31,7 +31,8 @@ SurfaceHit test_hit() {
 template <typename L>
 L lobe_of(const Scene& s, size_t index) {
     SampledWavelengths lambda = SampledWavelengths::sample_uniform(0.3f);
-    std::optional<Bsdf> b = make_bsdf(s.materials.at(index), s.material_context(), test_hit(), lambda);
+    std::optional<Bsdf> b =
+        make_bsdf(s.materials.at(index), s.material_context(), test_hit(), lambda);
     if (b && std::holds_alternative<L>(b->lobe())) return std::get<L>(b->lobe());
     ADD_FAILURE() << "material " << index << " does not build that lobe";
     return L{};
@@ -69,8 +70,10 @@ TEST(LayeredMaterials, CoatedDiffuseDefaultsArePbrtV4s) {
 }
 
 TEST(LayeredMaterials, CoatedDiffuseParametersReachTheLobe) {
-    Scene s = build(
-        R"(Material "coateddiffuse" "spectrum reflectance" [ 300 0.25 900 0.25 ] "float uroughness" 0.04 "float vroughness" 0.09 "float eta" 1.33 "float thickness" 0.2 "spectrum albedo" [ 300 0.7 900 0.7 ] "float g" -0.3 "integer maxdepth" 50 "integer nsamples" 3)");
+    Scene s = build(R"(Material "coateddiffuse" "spectrum reflectance" [ 300 0.25 900 0.25 ] )"
+                    R"("float uroughness" 0.04 "float vroughness" 0.09 "float eta" 1.33 )"
+                    R"("float thickness" 0.2 "spectrum albedo" [ 300 0.7 900 0.7 ] "float g" -0.3 )"
+                    R"("integer maxdepth" 50 "integer nsamples" 3)");
     auto l = lobe_of<CoatedDiffuseLobe>(s, 0);
     EXPECT_FLOAT_EQ(l.bottom.r[0], 0.25f);
     EXPECT_FLOAT_EQ(l.top.eta, 1.33f);
@@ -101,7 +104,10 @@ TEST(LayeredMaterials, CoatedConductorParametersReachTheLobe) {
     EXPECT_GT(d.bottom.k[0], 0);  // copper by default
 
     Scene s = build(
-        R"(Material "coatedconductor" "float interface.roughness" 0.01 "float interface.eta" 2 "spectrum conductor.eta" [ 300 0.5 900 0.5 ] "spectrum conductor.k" [ 300 3 900 3 ] "float conductor.uroughness" 0.16 "float conductor.vroughness" 0.25 "float thickness" 0.1)");
+        R"(Material "coatedconductor" "float interface.roughness" 0.01 "float interface.eta" 2 )"
+        R"("spectrum conductor.eta" [ 300 0.5 900 0.5 ] "spectrum conductor.k" [ 300 3 900 3 ] )"
+        R"("float conductor.uroughness" 0.16 "float conductor.vroughness" 0.25 )"
+        R"("float thickness" 0.1)");
     auto l = lobe_of<CoatedConductorLobe>(s, 0);
     EXPECT_FLOAT_EQ(l.top.eta, 2);
     EXPECT_FLOAT_EQ(l.top.mf.alpha_x, 0.1f);
@@ -151,17 +157,17 @@ TEST(LayeredMaterials, MixResolvesNamesInAnyOrder) {
 }
 
 TEST(LayeredMaterials, Errors) {
-    expect_error(R"(Material "coateddiffuse" "integer nsamples" 0)", "\"nsamples\" must be in [1, 65535]",
-                 2, "\"integer nsamples\"");
-    expect_error(R"(Material "coateddiffuse" "integer maxdepth" -1)", "\"maxdepth\" must be in [0, 65535]",
-                 2, "\"integer maxdepth\"");
+    expect_error(R"(Material "coateddiffuse" "integer nsamples" 0)",
+                 "\"nsamples\" must be in [1, 65535]", 2, "\"integer nsamples\"");
+    expect_error(R"(Material "coateddiffuse" "integer maxdepth" -1)",
+                 "\"maxdepth\" must be in [0, 65535]", 2, "\"integer maxdepth\"");
     expect_error(R"(Material "coateddiffuse" "float conductor.roughness" 0.1)", "unused", 2,
                  "\"float conductor.roughness\"");
     expect_error(R"(Material "coatedconductor" "float roughness" 0.1)", "unused", 2,
                  "\"float roughness\"");
-    expect_error(
-        R"(Material "coatedconductor" "spectrum reflectance" [ 300 0.5 900 0.5 ] "spectrum conductor.k" [ 300 2 900 2 ])",
-        "either \"reflectance\"", 2, "Material");
+    expect_error(R"(Material "coatedconductor" "spectrum reflectance" [ 300 0.5 900 0.5 ] )"
+                 R"("spectrum conductor.k" [ 300 2 900 2 ])",
+                 "either \"reflectance\"", 2, "Material");
     expect_error(R"(Material "mix" "string materials" [ "a" ])", "must name two materials", 2,
                  "\"string materials\"");
     expect_error(R"(Material "mix" "string materials" [ "a" "b" ])",
