@@ -714,7 +714,9 @@ TEST(Mix, ChoosesByAmountAndAveragesAlbedos) {
     MixWorld w;
     // Material 0: diffuse 0.2; material 1: a coated diffuse (white base, smooth coat, no slab:
     // albedo exactly 1 per completed walk); material 2: the mix.
-    w.materials.push_back(DiffuseMaterial{w.spectrum(0.2f)});
+    DiffuseMaterial diffuse;
+    diffuse.reflectance = w.spectrum(0.2f);
+    w.materials.push_back(diffuse);
     CoatedDiffuseMaterial cd;
     cd.reflectance = w.spectrum(1);
     cd.roughness = Roughness{w.scalar(0), w.scalar(0), true};

@@ -216,6 +216,7 @@ struct Accel::Impl {
             h.ng = normalize(w.normal(h.ng));
             h.ns = normalize(w.normal(h.ns));
             h.dpdu = w.vector(h.dpdu);
+            h.dpdv = w.vector(h.dpdv);
         }
         h.wo = -normalize(ray.d);
     }

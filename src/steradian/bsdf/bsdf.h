@@ -59,7 +59,19 @@ class Bsdf {
     SampledSpectrum f(Vec3 wo_w, Vec3 wi_w, TransportMode mode = TransportMode::Radiance) const {
         Vec3 wo = m_frame.to_local(wo_w), wi = m_frame.to_local(wi_w);
         if (wo.z == 0) return SampledSpectrum(0);
-        return std::visit([&](const auto& l) { return l.f(wo, wi, mode); }, m_lobe);
+        return std::visit([&](const auto& l) { return l.f(wo, wi, mode); }, m_lobe) *
+               adjoint_factor(wo_w, wi_w, mode);
+    }
+
+    /// Veach's correction for shading normals in importance transport (Veach 1997, sec.
+    /// 5.3.4, eq. 5.19): the adjoint BSDF with shading normals is not the BSDF with its
+    /// arguments swapped, but f* = f |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|), wo being
+    /// the direction towards the previous vertex of the light path. 1 for radiance.
+    Float adjoint_factor(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
+        if (mode == TransportMode::Radiance) return 1;
+        Float num = std::abs(dot(wo_w, m_frame.n)) * std::abs(dot(wi_w, m_ng));
+        Float den = std::abs(dot(wo_w, m_ng)) * std::abs(dot(wi_w, m_frame.n));
+        return den == 0 ? 0 : num / den;
     }
     /// f(wo, wi), the solid-angle pdf of sampling wi given wo, and |cos| of wi with the
     /// shading normal: what next-event estimation with MIS needs, with one change of frame.
@@ -73,7 +85,8 @@ class Bsdf {
         if (wo.z == 0) return {};
         return std::visit(
             [&](const auto& l) {
-                return Eval{l.f(wo, wi, mode), l.pdf(wo, wi, mode), std::abs(wi.z)};
+                return Eval{l.f(wo, wi, mode) * adjoint_factor(wo_w, wi_w, mode),
+                            l.pdf(wo, wi, mode), std::abs(wi.z)};
             },
             m_lobe);
     }
@@ -85,6 +98,7 @@ class Bsdf {
         auto s = std::visit([&](const auto& l) { return l.sample(wo, uc, u, mode); }, m_lobe);
         if (!s || s->f.is_zero() || s->pdf_sa == 0 || s->wi.z == 0) return std::nullopt;
         s->wi = m_frame.to_world(s->wi);
+        if (mode == TransportMode::Importance) s->f *= adjoint_factor(wo_w, s->wi, mode);
         return s;
     }
     /// Solid-angle pdf of sampling wi given wo (world space).

@@ -58,24 +58,33 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
     if (flip_normals) ng = -ng;
     // uv and tangent. Without uv, pbrt-v4's default parameterisation (0,0), (1,0), (1,1)
     // gives uv = (b1 + b2, b2) and dpdu = p1 - p0.
-    Vec3 dpdu;
+    Vec3 dpdu, dpdv;
     if (uv && !uv->empty()) {
         Point2 uv0 = (*uv)[v[0]], uv1 = (*uv)[v[1]], uv2 = (*uv)[v[2]];
         h.uv = Point2(uv0.x * b0 + uv1.x * b1 + uv2.x * b2, uv0.y * b0 + uv1.y * b1 + uv2.y * b2);
         Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
         Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
         Float det = duv02.x * duv12.y - duv02.y * duv12.x;
-        dpdu = std::abs(det) > 1e-12f ? (dp02 * duv12.y - dp12 * duv02.y) * (1 / det) : Vec3(0, 0, 0);
+        if (std::abs(det) > 1e-12f) {
+            dpdu = (dp02 * duv12.y - dp12 * duv02.y) * (1 / det);
+            dpdv = (dp12 * duv02.x - dp02 * duv12.x) * (1 / det);
+        } else {
+            dpdu = dpdv = Vec3(0, 0, 0);
+        }
     } else {
+        // uv = (b1 + b2, b2) over p0, p1, p2: p = p0 + u (p1 - p0) + v (p2 - p1).
         h.uv = Point2(b1 + b2, b2);
         dpdu = e1;
+        dpdv = p2 - p1;
     }
-    if (length_squared(cross(dpdu, ng)) == 0) {
+    if (length_squared(cross(dpdu, ng)) == 0 || length_squared(cross(dpdv, ng)) == 0) {
         Vec3 s, t;
         coordinate_system(ng, s, t);
         dpdu = s;
+        dpdv = t;
     }
     h.dpdu = dpdu;
+    h.dpdv = dpdv;
     if (n && !n->empty()) {
         Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
         Float l2 = length_squared(ns);
@@ -275,6 +284,11 @@ void Sphere::fill_hit(Point3 p_obj, SurfaceHit& h) const {
         dpdu_obj = s;
     }
     h.dpdu = world_from_object.vector(dpdu_obj);
+    // dp/dv = (theta_max - theta_min) (z cos phi, z sin phi, -r sin theta).
+    Float sin_theta = safe_sqrt(1 - sqr(cos_theta));
+    Float d_theta = theta_z_max - theta_z_min;
+    h.dpdv = world_from_object.vector(
+        Vec3(p_obj.z * std::cos(phi), p_obj.z * std::sin(phi), -radius * sin_theta) * d_theta);
 }
 
 Float Sphere::area() const {
@@ -386,6 +400,10 @@ void Disk::fill_hit(Point3 p_obj, SurfaceHit& h) const {
     Vec3 dpdu_obj(-phi_max * p_obj.y, phi_max * p_obj.x, 0);
     if (length_squared(dpdu_obj) == 0) dpdu_obj = Vec3(1, 0, 0);
     h.dpdu = world_from_object.vector(dpdu_obj);
+    // v runs inwards from the rim: dp/dv = (x, y, 0) (inner - outer radius) / dist.
+    Vec3 dpdv_obj = dist > 0 ? Vec3(p_obj.x, p_obj.y, 0) * ((inner_radius - radius) / dist)
+                             : Vec3(0, -(radius - inner_radius), 0);
+    h.dpdv = world_from_object.vector(dpdv_obj);
 }
 
 Float Disk::area() const {

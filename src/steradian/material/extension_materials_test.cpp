@@ -116,11 +116,11 @@ TEST(ExtensionMaterials, TexturedKdPlusKsIsNormalisedPerLookup) {
     h.ng = h.ns = Normal3(0, 0, 1);
     h.dpdu = Vec3(1, 0, 0);
     SampledWavelengths lambda = SampledWavelengths::sample_uniform(0.5f);
-    PhongMaterial pm{0, 1, 0, 1, false};
+    PhongMaterial pm{{}, 0, 1, 0, 1, false};
     auto p = std::get<PhongLobe>(make_bsdf(pm, ctx, h, lambda)->lobe());
     EXPECT_NEAR(p.kd[0], 0.6, 1e-6);
     EXPECT_NEAR(p.ks[0], 0.4, 1e-6);
-    WardMaterial wm{0, 1, 1, 1, 1};
+    WardMaterial wm{{}, 0, 1, 1, 1, 1};
     auto w = std::get<WardLobe>(make_bsdf(wm, ctx, h, lambda)->lobe());
     EXPECT_NEAR(w.rho_d[0] + w.rho_s[0], 1, 1e-6);
     EXPECT_FLOAT_EQ(w.alpha_x, 0.2f);

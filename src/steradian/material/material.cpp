@@ -87,9 +87,62 @@ int mix_choice(const MixMaterial& m, const MaterialContext& ctx, const SurfaceHi
 
 }  // namespace
 
-std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, const SurfaceHit& h,
+void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, SurfaceHit& h) {
+    Normal3 ns = h.ns;
+    Vec3 dpdu = h.dpdu, dpdv = h.dpdv;
+    if (c.displacement >= 0) {
+        const FloatTexture& d = (*ctx.float_textures)[c.displacement];
+        constexpr Float kDuv = Float(0.0005);
+        Float d0 = evaluate(d, h);
+        SurfaceHit sh = h;
+        sh.p = h.p + h.dpdu * kDuv;
+        sh.uv = Point2(h.uv.x + kDuv, h.uv.y);
+        Float du = evaluate(d, sh);
+        sh.p = h.p + h.dpdv * kDuv;
+        sh.uv = Point2(h.uv.x, h.uv.y + kDuv);
+        Float dv = evaluate(d, sh);
+        dpdu = h.dpdu + ns * ((du - d0) / kDuv);
+        dpdv = h.dpdv + ns * ((dv - d0) / kDuv);
+        Vec3 n = cross(dpdu, dpdv);
+        if (!(length_squared(n) > 0)) return;
+        n = normalize(n);
+        ns = dot(n, h.ns) < 0 ? -n : n;
+    } else if (c.normal_map) {
+        Rgb v = c.normal_map->bilerp(h.uv);
+        Vec3 nt(2 * v.r - 1, 2 * v.g - 1, 2 * v.b - 1);
+        if (!(length_squared(nt) > 0)) return;
+        Vec3 t = h.dpdu - h.ns * dot(h.ns, h.dpdu);
+        Frame f = length_squared(t) > 0 ? Frame(normalize(t), cross(h.ns, normalize(t)), h.ns)
+                                        : Frame::from_z(h.ns);
+        ns = normalize(f.to_world(normalize(nt)));
+    } else {
+        return;
+    }
+    if (dot(ns, h.ng) < 0) ns = -ns;
+    // Tangents that go with the new normal (pbrt-v4: Gram-Schmidt, lengths kept).
+    Float ul = length(dpdu), vl = length(dpdv);
+    Vec3 u = dpdu - ns * dot(ns, dpdu);
+    if (length_squared(u) > 0) {
+        u = normalize(u) * ul;
+        h.dpdu = u;
+        h.dpdv = normalize(cross(ns, u)) * vl;
+    }
+    h.ns = ns;
+}
+
+std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, const SurfaceHit& h_in,
                               SampledWavelengths& lambda) {
     const auto& tex = *ctx.spectrum_textures;
+    const MaterialCommon& common =
+        std::visit([](const auto& x) -> const MaterialCommon& { return x; }, m);
+    SurfaceHit h_perturbed;
+    const SurfaceHit* hp = &h_in;
+    if (common.normal_map || common.displacement >= 0) {
+        h_perturbed = h_in;
+        perturb_shading(common, ctx, h_perturbed);
+        hp = &h_perturbed;
+    }
+    const SurfaceHit& h = *hp;
     return std::visit(
         [&](const auto& mat) -> std::optional<Bsdf> {
             using T = std::decay_t<decltype(mat)>;

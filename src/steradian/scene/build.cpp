@@ -740,12 +740,42 @@ private:
     }
 
     // ---- materials ------------------------------------------------------------------
+    /// A material with pbrt-v4's shading-normal parameters ("normalmap", "displacement")
+    /// read for every reflection model (interface and mix have none, as in pbrt-v4).
     Material make_material(const MaterialDesc& m) {
+        const ParamSet& ps = m.params;
+        MaterialCommon common;
+        bool has_perturbation = false;
+        if (m.type != "interface" && m.type != "none" && !m.type.empty() && m.type != "mix") {
+            if (auto file = ps.find_string("normalmap")) {
+                const Param* p = ps.find("normalmap");
+                auto img = std::make_shared<TextureImage>();
+                try {
+                    img->image = read_image(resolve_path(m_d.base_dir, *file), false);  // linear
+                } catch (const Error& err) {
+                    throw_error(p->loc, "\"normalmap\": {}", err.what());
+                }
+                if (img->image.channels < 3)
+                    throw_error(p->loc, "\"normalmap\" \"{}\" needs RGB channels", *file);
+                img->wrap = WrapMode::Repeat;
+                common.normal_map = std::move(img);
+                has_perturbation = true;
+            }
+            if (ps.find("displacement")) {
+                common.displacement = float_texture_param(ps, "displacement", 0);
+                has_perturbation = true;
+            }
+        }
+        Material mt = make_material_model(m);
+        if (has_perturbation)
+            std::visit([&](auto& x) { static_cast<MaterialCommon&>(x) = common; }, mt);
+        return mt;
+    }
+
+    Material make_material_model(const MaterialDesc& m) {
         const ParamSet& ps = m.params;
         std::string what = m.name.empty() ? fmt::format("Material \"{}\"", m.type)
                                           : fmt::format("material \"{}\"", m.name);
-        if (ps.find("displacement") || ps.find("normalmap"))
-            throw_error(m.loc, "{}: \"displacement\" and \"normalmap\" are not supported yet", what);
         if (m.type == "diffuse") {
             DiffuseMaterial d;
             d.reflectance = spectrum_texture_param(ps, "reflectance", 0.5f);
