@@ -122,7 +122,7 @@ TEST(Fresnel, GoldAtNormalIncidence) {
         double expected = ((nn - 1) * (nn - 1) + kk * kk) / ((nn + 1) * (nn + 1) + kk * kk);
         EXPECT_NEAR(fr_complex(1, Float(nn), Float(kk)), expected, 1e-6) << lambda;
     }
-    // Gold is yellow: it reflects red far better than blue (Johnson & Christy 1972).
+    // Gold is yellow: it reflects red far better than blue.
     EXPECT_GT(fr_complex(1, (*n)(700), (*k)(700)), 0.9);
     EXPECT_LT(fr_complex(1, (*n)(450), (*k)(450)), 0.5);
     // The spectral version is the scalar one per wavelength, and reflectance rises to 1 at

@@ -152,12 +152,41 @@ TEST(NamedSpectra, NobleMetalReflectanceIsPlausible) {
     EXPECT_NEAR(r("metal-Au", 600), 0.90, 0.04);  // gold: ~0.9 in the red
     EXPECT_LT(r("metal-Au", 450), 0.45);          // and low in the blue (its colour)
     EXPECT_GT(r("metal-Ag", 600), 0.95);          // silver: highest of all in the visible
-    EXPECT_GT(r("metal-Ag", 450), 0.95);
+    EXPECT_GT(r("metal-Ag", 450), 0.90);          // (pbrt-v4's data: 0.918 at 450 nm)
     EXPECT_NEAR(r("metal-Cu", 650), 0.95, 0.04);   // copper: high in the red
     EXPECT_LT(r("metal-Cu", 450), 0.65);           // low in the blue
     EXPECT_NEAR(r("metal-Al", 550), 0.915, 0.02);  // aluminium: ~0.91, dip near 800 nm
     EXPECT_LT(r("metal-Al", 820), r("metal-Al", 550));
     EXPECT_NEAR(r("metal-CuZn", 600), 0.85, 0.05);  // brass
+}
+
+TEST(NamedSpectra, MetalsMatchPbrtV4Tables) {
+    // pbrt-v4's Au_eta/Au_k, Ag_eta/Ag_k, Cu_eta/Cu_k, Al_eta/Al_k (spectrum.cpp),
+    // linearly interpolated to these wavelengths.
+    EXPECT_NEAR(eval_named("metal-Au-eta", 450), 1.50846, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Au-k", 450), 1.87885, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Au-eta", 550), 0.35041, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Au-k", 550), 2.71406, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Au-eta", 650), 0.16779, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Au-k", 650), 3.13782, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Ag-eta", 450), 0.15169, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Ag-k", 450), 2.47042, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Ag-eta", 550), 0.12478, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Ag-k", 550), 3.33960, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Ag-eta", 650), 0.13941, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Ag-k", 650), 4.12877, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Cu-eta", 450), 1.16581, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Cu-k", 450), 2.39386, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Cu-eta", 550), 0.95816, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Cu-k", 550), 2.57706, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Cu-eta", 650), 0.21656, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Cu-k", 650), 3.63774, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Al-eta", 450), 0.61795, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Al-k", 450), 5.46942, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Al-eta", 550), 0.95857, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Al-k", 550), 6.68697, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Al-eta", 650), 1.47477, 1e-4);
+    EXPECT_NEAR(eval_named("metal-Al-k", 650), 7.79411, 1e-4);
 }
 
 TEST(NamedSpectra, OxideIndices) {
