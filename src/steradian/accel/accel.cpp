@@ -217,6 +217,8 @@ struct Accel::Impl {
             h.ns = normalize(w.normal(h.ns));
             h.dpdu = w.vector(h.dpdu);
             h.dpdv = w.vector(h.dpdv);
+            h.dndu = w.normal(h.dndu);
+            h.dndv = w.normal(h.dndv);
         }
         h.wo = -normalize(ray.d);
     }

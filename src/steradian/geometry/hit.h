@@ -21,6 +21,7 @@ struct SurfaceHit {
     Normal3 ns;         ///< shading normal, unit, in the hemisphere of ng
     Vec3 dpdu;          ///< surface tangent (not normalised), for anisotropic frames
     Vec3 dpdv{0, 0, 0}; ///< dp/dv of the (u, v) parameterisation (bump mapping)
+    Vec3 dndu{0, 0, 0}, dndv{0, 0, 0};  ///< derivatives of the (unnormalised) shading normal
     Point2 uv;          ///< surface parameterisation
     Vec3 wo;            ///< unit direction towards the ray origin
     Float t = 0;        ///< ray parameter

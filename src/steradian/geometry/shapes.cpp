@@ -86,7 +86,22 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
     h.dpdu = dpdu;
     h.dpdv = dpdv;
     if (n && !n->empty()) {
-        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
+        const Normal3 n0 = (*n)[v[0]], n1 = (*n)[v[1]], n2 = (*n)[v[2]];
+        // dn/du, dn/dv of the interpolated normal, by the same linear solve as dp/du, dp/dv.
+        if (uv && !uv->empty()) {
+            Point2 uv0 = (*uv)[v[0]], uv1 = (*uv)[v[1]], uv2 = (*uv)[v[2]];
+            Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+            Float det = duv02.x * duv12.y - duv02.y * duv12.x;
+            if (std::abs(det) > 1e-12f) {
+                Vec3 dn02 = n0 - n2, dn12 = n1 - n2;
+                h.dndu = (dn02 * duv12.y - dn12 * duv02.y) * (1 / det);
+                h.dndv = (dn12 * duv02.x - dn02 * duv12.x) * (1 / det);
+            }
+        } else {
+            h.dndu = n1 - n0;
+            h.dndv = n2 - n1;
+        }
+        Normal3 ns = n0 * b0 + n1 * b1 + n2 * b2;
         Float l2 = length_squared(ns);
         if (l2 > 0) {
             ns = ns / std::sqrt(l2);
@@ -287,8 +302,12 @@ void Sphere::fill_hit(Point3 p_obj, SurfaceHit& h) const {
     // dp/dv = (theta_max - theta_min) (z cos phi, z sin phi, -r sin theta).
     Float sin_theta = safe_sqrt(1 - sqr(cos_theta));
     Float d_theta = theta_z_max - theta_z_min;
-    h.dpdv = world_from_object.vector(
-        Vec3(p_obj.z * std::cos(phi), p_obj.z * std::sin(phi), -radius * sin_theta) * d_theta);
+    Vec3 dpdv_obj = Vec3(p_obj.z * std::cos(phi), p_obj.z * std::sin(phi), -radius * sin_theta) * d_theta;
+    h.dpdv = world_from_object.vector(dpdv_obj);
+    // The outward normal is p / r: dn/du = dp/du / r (flipped with the normal).
+    Float k = (flip_normals ? -1 : 1) / radius;
+    h.dndu = world_from_object.normal(Normal3(dpdu_obj * k));
+    h.dndv = world_from_object.normal(Normal3(dpdv_obj * k));
 }
 
 Float Sphere::area() const {

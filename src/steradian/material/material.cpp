@@ -101,8 +101,8 @@ void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, Surfac
         sh.p = h.p + h.dpdv * kDuv;
         sh.uv = Point2(h.uv.x, h.uv.y + kDuv);
         Float dv = evaluate(d, sh);
-        dpdu = h.dpdu + ns * ((du - d0) / kDuv);
-        dpdv = h.dpdv + ns * ((dv - d0) / kDuv);
+        dpdu = h.dpdu + ns * ((du - d0) / kDuv) + h.dndu * d0;
+        dpdv = h.dpdv + ns * ((dv - d0) / kDuv) + h.dndv * d0;
         Vec3 n = cross(dpdu, dpdv);
         if (!(length_squared(n) > 0)) return;
         n = normalize(n);

@@ -153,10 +153,9 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
 /// Applies a normal map or bump map to h's shading geometry (ns, dpdu, dpdv) as pbrt-v4
 /// does: the normal map's tangent-space normal in the frame (dpdu, ns x dpdu, ns); bump
 /// mapping by forward differences of the displacement d along u and v (step 0.0005 in uv
-/// without ray differentials): dpdu' = dpdu + (d(u + du) - d(u)) / du ns, likewise dpdv',
-/// ns' = dpdu' x dpdv' on the side of the old ns (the displacement-times-dndu terms of
-/// pbrt-v4 are omitted: steradian's hits carry no normal derivatives). The new shading
-/// normal is flipped to the geometric normal's side.
+/// without ray differentials): dpdu' = dpdu + (d(u + du) - d(u)) / du ns + d dn/du,
+/// likewise dpdv', ns' = dpdu' x dpdv' on the side of the old ns (as pbrt-v4). The new
+/// shading normal is flipped to the geometric normal's side.
 void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, SurfaceHit& h);
 
 }  // namespace sr
