@@ -454,35 +454,14 @@ private:
             throw_error(ps.find("dimension")->loc, "Texture \"{}\": \"dimension\" must be 2 or 3, not {}", t.name, dim);
     }
 
-    /// An input of a composite float texture: a copy of a named float texture, or a
-    /// constant (the float value given, else `def`).
+    /// An input of a composite texture: a copy of the named texture or of the constant that
+    /// float_texture_param / spectrum_texture_param make (textures are immutable once built).
     std::shared_ptr<const FloatTexture> float_tex_arg(const ParamSet& ps, std::string_view name, Float def) {
-        if (auto tn = ps.find_texture(name)) {
-            auto it = m_float_tex.find(*tn);
-            if (it == m_float_tex.end()) {
-                const Param* p = ps.find(name);
-                throw_error(p ? p->loc : SourceLoc{}, "unknown float texture \"{}\"", *tn);
-            }
-            return std::make_shared<const FloatTexture>(m_s.float_textures[size_t(it->second)]);
-        }
-        return std::make_shared<const FloatTexture>(ConstantFloatTexture{ps.get_float(name, def)});
+        return std::make_shared<const FloatTexture>(m_s.float_textures[size_t(float_texture_param(ps, name, def))]);
     }
-
-    /// An input of a composite spectrum texture: a copy of a named spectrum texture, an
-    /// inline spectrum (as a reflectance-like value, like pbrt-v4's albedo textures), or the
-    /// constant `def`.
     std::shared_ptr<const SpectrumTexture> spectrum_tex_arg(const ParamSet& ps, std::string_view name, Float def) {
-        if (auto tn = ps.find_texture(name)) {
-            auto it = m_spec_tex.find(*tn);
-            if (it == m_spec_tex.end()) {
-                const Param* p = ps.find(name);
-                throw_error(p ? p->loc : SourceLoc{}, "unknown spectrum texture \"{}\"", *tn);
-            }
-            return std::make_shared<const SpectrumTexture>(m_s.spectrum_textures[size_t(it->second)]);
-        }
-        Spectrum sp = ConstantSpectrum{def};
-        if (const Param* p = ps.find_spectrum(name)) sp = spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir);
-        return std::make_shared<const SpectrumTexture>(ConstantSpectrumTexture{densely_sampled(sp)});
+        return std::make_shared<const SpectrumTexture>(
+            m_s.spectrum_textures[size_t(spectrum_texture_param(ps, name, def))]);
     }
 
     /// A spectrum-texture index for material parameter `name`: a texture reference, an
@@ -1323,14 +1302,20 @@ private:
             s.lights.push_back(*lum.point);
             return;
         }
-        ShapeEntry& e = s.shapes[lum.shape];
-        e.light_offset = int(s.lights.size());
-        auto make = [&](Float area) {
+        add_emitting_primitives(s, lum.shape, [&](Float area) {
             DiffuseAreaLight dl;
             dl.area = area;
             dl.goniometric = lum.emission;
             return dl;
-        };
+        });
+    }
+
+    /// One DiffuseAreaLight per emitting primitive of shape `shape_index` (each triangle of
+    /// a mesh, or the whole sphere or disk), made by make(primitive area), as pbrt-v4 does.
+    template <typename Make>
+    static void add_emitting_primitives(Scene& s, int shape_index, const Make& make) {
+        ShapeEntry& e = s.shapes[shape_index];
+        e.light_offset = int(s.lights.size());
         if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
             for (size_t i = 0; i < mesh->num_triangles(); ++i) {
                 DiffuseAreaLight dl = make(mesh->triangle_area(i));
@@ -1488,9 +1473,7 @@ private:
         Spectrum L = densely_sampled(L_param);
         Float phi = ps.get_float("power", -1);
         ps.check_unused("AreaLightSource \"diffuse\"");
-        ShapeEntry& e = s.shapes[shape_index];
-        e.light_offset = int(s.lights.size());
-        auto make = [&](Float area) {
+        add_emitting_primitives(s, shape_index, [&](Float area) {
             DiffuseAreaLight dl;
             dl.radiance = L;
             dl.two_sided = two_sided;
@@ -1498,24 +1481,7 @@ private:
             // pbrt-v4 applies "power" per emitting primitive (each triangle its own light).
             dl.scale = phi > 0 ? sc * phi / ((two_sided ? 2 : 1) * area * kPi) : sc;
             return dl;
-        };
-        if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
-            for (size_t i = 0; i < mesh->num_triangles(); ++i) {
-                DiffuseAreaLight dl = make(mesh->triangle_area(i));
-                dl.mesh = mesh;
-                dl.prim = uint32_t(i);
-                s.lights.push_back(dl);
-            }
-        } else if (auto* sp = std::get_if<Sphere>(&e.geometry)) {
-            DiffuseAreaLight dl = make(sp->area());
-            dl.sphere = sp;
-            s.lights.push_back(dl);
-        } else {
-            auto* d = std::get_if<Disk>(&e.geometry);
-            DiffuseAreaLight dl = make(d->area());
-            dl.disk = d;
-            s.lights.push_back(dl);
-        }
+        });
     }
 
     const SceneDesc& m_d;

@@ -114,10 +114,9 @@ Meter build_meter(const MeterDesc& d, size_t index) {
     }
 
     if (m.kind == MeterKind::Point) {
-        const Param* pp = require(ps, "p", d.loc, what, "point3 p");
+        require(ps, "p", d.loc, what, "point3 p");
         for (Vec3 v : vec3s(ps, "p", ParamType::Point3)) m.points.push_back(x.point(Point3(v)));
         const Param* pn = require(ps, "n", d.loc, what, "normal n");
-        (void)pp;
         m.directions = per_point(vec3s(ps, "n", ParamType::Normal3), m.points.size(), pn, true, x, what);
     } else if (m.kind == MeterKind::Grid) {
         require(ps, "corner", d.loc, what, "point3 corner");
@@ -151,8 +150,7 @@ Meter build_meter(const MeterDesc& d, size_t index) {
             m.directions.assign(m.points.size(), normalize(cross(wu, wv)));
         }
     } else {
-        const Param* pp = require(ps, "p", d.loc, what, "point3 p");
-        (void)pp;
+        require(ps, "p", d.loc, what, "point3 p");
         for (Vec3 v : vec3s(ps, "p", ParamType::Point3)) m.points.push_back(x.point(Point3(v)));
         const Param* pd = require(ps, "direction", d.loc, what, "vector3 direction");
         m.directions = per_point(vec3s(ps, "direction", ParamType::Vector3), m.points.size(), pd,
