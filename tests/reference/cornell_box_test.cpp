@@ -89,9 +89,10 @@ TEST(CornellBox, MatchesPbrtV4RegionByRegionAndInRmse) {
     RecordProperty("rmse_pbrt64", std::to_string(e_pbrt));
     std::printf("RMSE vs pbrt-v4 1024 spp: ours(64 spp) %.5f, pbrt-v4(64 spp) %.5f, ratio %.3f\n",
                 e_ours, e_pbrt, e_ours / e_pbrt);
-    // The foundation issue asks for ratio <= 1. We measure 1.038 (the excess is at the light's
-    // silhouette, see the issue note); this guards against regressions until that is closed.
-    EXPECT_LE(e_ours, 1.05 * e_pbrt);
+    // The foundation issue's criterion: no more error than pbrt-v4 at the same sample count.
+    // (The pixels that straddle the light's edge dominate both errors; there the wavelengths
+    // of the samples that see the light must stay stratified, see Sampler::get_pixel_1d.)
+    EXPECT_LE(e_ours, e_pbrt);
 }
 
 }  // namespace

@@ -159,7 +159,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                                 sampler.start_pixel_sample(Vec2i(x, y), si);
                                 Point2 up = sampler.get_pixel_2d();
                                 FilterSample fs = filter.sample(up);
-                                Float ul = sampler.get_1d();
+                                Float ul = sampler.get_pixel_1d();
                                 SampledWavelengths lambda = SampledWavelengths::sample_visible(ul);
                                 Point2 u_lens = sampler.get_2d();
                                 Point2 p_film(Float(x) + 0.5f + fs.offset.x,

@@ -277,6 +277,42 @@ TEST(Sobol, AlignedBlocksAreZeroTwoNets) {
     EXPECT_NE(testing::check_02_net(sobol_block(1, 2, Randomization::kNone, 0)), "");
 }
 
+TEST(Sobol, FirstThreeDimensionsFormAOneThreeSequence) {
+    // Sobol's bound t <= sum over the primitive polynomials (x, x + 1, x^2 + x + 1) of
+    // (degree - 1) = 1: every aligned block of 2^m indices is a (1,m,3)-net, randomized or not
+    // (digit scramblings map elementary boxes onto elementary boxes). t = 0 is impossible for
+    // three dimensions in base 2 (Niederreiter 1992, Cor. 4.24), so some box must show it.
+    Pcg32 rng(8, 9);
+    for (Randomization r : {Randomization::kNone, Randomization::kXor, Randomization::kOwen}) {
+        for (int m = 1; m <= 10; ++m) {
+            for (uint64_t block : {uint64_t(0), uint64_t(1), uint64_t(37), uint64_t(1) << 20}) {
+                uint32_t k0 = rng.next_u32(), k1 = rng.next_u32(), k2 = rng.next_u32();
+                std::vector<Point3> pts;
+                for (uint64_t a = block << m; a < (block + 1) << m; ++a) {
+                    pts.push_back({u32_to_unit_float(randomize(sobol_u32_dim0(a), r, k0)),
+                                   u32_to_unit_float(randomize(sobol_u32_dim1(a), r, k1)),
+                                   u32_to_unit_float(randomize(sobol_u32_dim2(a), r, k2))});
+                }
+                EXPECT_EQ(testing::check_net_3d(pts, 1), "")
+                    << "m " << m << " block " << block << " randomization " << to_string(r);
+                if (m >= 2) {
+                    EXPECT_NE(testing::check_net_3d(pts, 0), "") << "m " << m;
+                }
+            }
+        }
+    }
+    // Dimension 2 alone is a (0,1)-sequence (its generator matrix is non-singular upper
+    // triangular), and it is linear over GF(2).
+    for (int j = 0; j < 32; ++j) {
+        uint32_t column = kSobolDim2Columns[std::size_t(j)];
+        EXPECT_EQ(column >> j, 1u) << "column " << j << " is not unit upper triangular";
+    }
+    for (int t = 0; t < 1000; ++t) {
+        uint32_t a = rng.next_u32(), b = rng.next_u32();
+        EXPECT_EQ(sobol_u32_dim2(a ^ b), sobol_u32_dim2(a) ^ sobol_u32_dim2(b));
+    }
+}
+
 TEST(Sobol, FloatPointsMatchTheReferenceFormulas) {
     // sobol_1d_float and sobol_2d_float (SSE4.1 where compiled for it, scalar otherwise) against
     // the definitions: randomize the Sobol digits, then u32_to_unit_float.

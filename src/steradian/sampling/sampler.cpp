@@ -160,6 +160,12 @@ Point2 IndependentSampler::get_pixel_2d() {
     return {x, rng.next_float()};
 }
 
+Float IndependentSampler::get_pixel_1d() {
+    Pcg32 rng = m_pixel_rng;
+    rng.advance(2);
+    return rng.next_float();
+}
+
 std::unique_ptr<Sampler> IndependentSampler::clone() const {
     return std::make_unique<IndependentSampler>(*this);
 }
@@ -184,9 +190,10 @@ void StratifiedSampler::start_pixel_sample(Vec2i pixel, int sample_index, int di
     m_dimension = kPixelDimensions + dimension;
 }
 
-Float StratifiedSampler::get_1d() {
-    uint64_t key = hash_combine(m_pixel_key, uint64_t(m_dimension));
-    ++m_dimension;
+Float StratifiedSampler::get_1d() { return sample_1d(m_dimension++); }
+
+Float StratifiedSampler::sample_1d(int dimension) const {
+    uint64_t key = hash_combine(m_pixel_key, uint64_t(dimension));
     int n = samples_per_pixel();
     auto stratum = int(permutation_element(uint32_t(m_sample_index), uint32_t(n), uint32_t(key)));
     uint64_t jitter_bits = hash_combine(key, uint64_t(m_sample_index));
@@ -441,6 +448,12 @@ Point2 ZSobolSampler::sample_2d(int d) {
     return m_sample_2d_fn(*this, d);
 }
 
+Float ZSobolSampler::get_pixel_1d() {
+    if (!(m_prefix_valid & 1)) fill_pixel_dimension(0);
+    uint64_t a = m_prefix[0] | sample_digits<-1>(m_dim_key[0], m_top_choice[0]);
+    return sobol_1d_float(sobol_dim2_digits(uint32_t(a)), m_randomize, uint32_t(m_scramble_key[2]));
+}
+
 std::unique_ptr<Sampler> ZSobolSampler::clone() const {
     return std::make_unique<ZSobolSampler>(*this);
 }
@@ -585,6 +598,15 @@ template <SobolIndexShuffle kShuffle>
     uint32_t y_digits = m_split_pascal ? m_high_pascal[i] ^ kPascal8[a & m_low_mask]
                                        : uint32_t(pascal_mod2_transform(a));
     return sobol_2d_float(a, y_digits, m_randomize, m_scramble_key[i]);
+}
+
+Float PaddedSobolSampler::get_pixel_1d() {
+    if (!(m_keys_valid & 1)) fill_keys(0);
+    if (!((m_keys_valid >> 2) & 1)) fill_keys(2);
+    uint32_t a = m_shuffle == SobolIndexShuffle::kPermutation
+                     ? shuffled_index<SobolIndexShuffle::kPermutation>(0)
+                     : shuffled_index<SobolIndexShuffle::kNestedUniform>(0);
+    return sobol_1d_float(sobol_dim2_digits(a), m_randomize, uint32_t(m_scramble_key[2]));
 }
 
 std::unique_ptr<Sampler> PaddedSobolSampler::clone() const {

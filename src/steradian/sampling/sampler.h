@@ -9,8 +9,14 @@
 /// order in which pixels are visited, or on how work is scheduled. A Sampler object is not
 /// thread-safe: each worker clone()s its own.
 ///
-/// Dimensions: the first kPixelDimensions = 2 dimensions of every pixel sample are reserved for
-/// the film-plane offset returned by get_pixel_2d(). get_1d() consumes one further dimension
+/// Dimensions: the first kPixelDimensions = 3 dimensions of every pixel sample are reserved for
+/// the film-plane offset returned by get_pixel_2d() (dimensions 0 and 1) and the wavelength
+/// sample returned by get_pixel_1d() (dimension 2). The Sobol-type samplers draw these three
+/// from one index, Sobol dimensions 0, 1 and 2, so that each pixel's samples form a
+/// (1,m,3)-net: the samples that land on one side of an edge inside the pixel still have
+/// stratified wavelengths (with independently shuffled indices they are a random subset, and
+/// the colour noise of a pixel straddling a bright emitter's edge is about twice as large).
+/// get_1d() consumes one further dimension
 /// and get_2d() two, in call order, starting at kPixelDimensions + the `dimension` argument of
 /// start_pixel_sample(). Consumers (camera lens, wavelengths, BSDF and light samples) must
 /// request dimensions in a fixed order per path vertex so that the same sample of the same
@@ -41,8 +47,8 @@ inline constexpr int kLowDiscrepancyDimensions = 64;
 
 class Sampler {
   public:
-    /// Dimensions reserved for get_pixel_2d().
-    static constexpr int kPixelDimensions = 2;
+    /// Dimensions reserved for get_pixel_2d() and get_pixel_1d().
+    static constexpr int kPixelDimensions = 3;
 
     explicit Sampler(int samples_per_pixel) : m_spp(samples_per_pixel) {}
     virtual ~Sampler();
@@ -59,6 +65,9 @@ class Sampler {
     /// The film-plane offset sample in [0, 1)^2 (the reserved dimensions 0 and 1); does not
     /// advance the dimension counter and may be called at any time after start_pixel_sample().
     virtual Point2 get_pixel_2d() = 0;
+    /// The wavelength sample in [0, 1) (the reserved dimension 2), jointly stratified with
+    /// get_pixel_2d() where the sampler can; like it, does not advance the dimension counter.
+    virtual Float get_pixel_1d() = 0;
     /// A copy with the same configuration (for another thread).
     virtual std::unique_ptr<Sampler> clone() const = 0;
     /// The pbrt-v4 style name of the sampler ("independent", "zsobol", ...).
@@ -85,6 +94,7 @@ class IndependentSampler final : public Sampler {
         return {x, m_rng.next_float()};
     }
     Point2 get_pixel_2d() override;
+    Float get_pixel_1d() override;
     std::unique_ptr<Sampler> clone() const override;
     std::string name() const override { return "independent"; }
 
@@ -108,6 +118,7 @@ class StratifiedSampler final : public Sampler {
     Float get_1d() override;
     Point2 get_2d() override;
     Point2 get_pixel_2d() override { return sample_2d(0); }
+    Float get_pixel_1d() override { return sample_1d(2); }
     std::unique_ptr<Sampler> clone() const override;
     std::string name() const override { return "stratified"; }
 
@@ -115,6 +126,7 @@ class StratifiedSampler final : public Sampler {
     int y_samples() const { return m_y_samples; }
 
   private:
+    Float sample_1d(int dimension) const;
     Point2 sample_2d(int dimension) const;
 
     int m_x_samples, m_y_samples;
@@ -171,6 +183,8 @@ class ZSobolSampler final : public Sampler {
     Float get_1d() override;
     Point2 get_2d() override;
     Point2 get_pixel_2d() override { return sample_2d(0); }
+    /// Sobol dimension 2 of get_pixel_2d()'s index, scrambled with dimension 2's key.
+    Float get_pixel_1d() override;
     std::unique_ptr<Sampler> clone() const override;
     std::string name() const override { return "zsobol"; }
 
@@ -275,6 +289,8 @@ class PaddedSobolSampler final : public Sampler {
     Float get_1d() override;
     Point2 get_2d() override;
     Point2 get_pixel_2d() override { return sample_2d(0); }
+    /// Sobol dimension 2 of get_pixel_2d()'s shuffled index, scrambled with dimension 2's key.
+    Float get_pixel_1d() override;
     std::unique_ptr<Sampler> clone() const override;
     /// "sobol" for the nested uniform shuffle, "paddedsobol" for the permutation shuffle.
     std::string name() const override;

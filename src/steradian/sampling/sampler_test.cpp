@@ -249,6 +249,44 @@ TEST(Sampler, LowDiscrepancySamplersGiveZeroTwoNetsPerPixel) {
     }
 }
 
+TEST(Sampler, PixelAndWavelengthDimensionsFormOneMThreeNets) {
+    // get_pixel_2d() and get_pixel_1d() are Sobol dimensions 0, 1 and 2 of one index, so the
+    // 2^m samples of a pixel form a (1,m,3)-net (Sobol's t for these three dimensions is 1):
+    // whichever part of the pixel an edge covers, the wavelengths of the samples there stay
+    // stratified. The value does not depend on when it is requested.
+    for (const Config& c : all_configs()) {
+        if (!c.net) continue;
+        for (int spp : {2, 8, 64, 256}) {
+            auto s = c.make(spp, 4321);
+            for (Vec2i p : {Vec2i{0, 0}, Vec2i{5, 3}, Vec2i{63, 47}}) {
+                std::vector<Point3> pts;
+                for (int i = 0; i < spp; ++i) {
+                    s->start_pixel_sample(p, i);
+                    s->get_2d();
+                    Float w = s->get_pixel_1d();
+                    Point2 pp = s->get_pixel_2d();
+                    pts.push_back({pp.x, pp.y, w});
+                    s->start_pixel_sample(p, i, 7);
+                    ASSERT_EQ(s->get_pixel_1d(), w) << c.label;
+                }
+                EXPECT_EQ(testing::check_net_3d(pts, 1), "")
+                    << c.label << " spp " << spp << " pixel " << p.x << "," << p.y;
+            }
+        }
+    }
+    // The other samplers stratify it in one dimension.
+    for (const Config& c : all_configs()) {
+        if (c.net || c.label == "independent") continue;
+        auto s = c.make(16, 5);
+        std::vector<Float> w;
+        for (int i = 0; i < 16; ++i) {
+            s->start_pixel_sample({3, 3}, i);
+            w.push_back(s->get_pixel_1d());
+        }
+        EXPECT_TRUE(testing::is_stratified_1d(w)) << c.label;
+    }
+}
+
 TEST(Sampler, ZSobolPixelBlocksFormLargerNets) {
     // Ahmed & Wonka 2020: aligned 2x2 (4x4, ...) blocks of pixels own consecutive aligned blocks
     // of the (0,2)-sequence, so their union is again a net: the screen-space blue-noise

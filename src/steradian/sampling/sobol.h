@@ -11,6 +11,7 @@
 /// (0,m,2)-net, i.e. each elementary interval [a 2^-p, (a+1) 2^-p) x [b 2^-q, (b+1) 2^-q) with
 /// p + q = m holds exactly one point (Niederreiter 1992, "Random Number Generation and
 /// Quasi-Monte Carlo Methods", Ch. 4).
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <string>
@@ -49,6 +50,59 @@ constexpr uint64_t pascal_mod2_transform(uint64_t a) {
 /// fixed point: output digit i (weight 2^-(i+1)) goes to bit 31 - i.
 constexpr uint32_t sobol_u32_dim1(uint64_t a) {
     return reverse_bits32(uint32_t(pascal_mod2_transform(a)));
+}
+
+/// Dimension 2 of the Sobol sequence: primitive polynomial x^2 + x + 1 (degree s = 2,
+/// coefficient a_1 = 1) with initial direction integers m_1 = 1, m_2 = 3 (Sobol 1967; the
+/// values of Joe & Kuo 2008, "Constructing Sobol sequences with better two-dimensional
+/// projections", SIAM J. Sci. Comput. 30(5), table file new-joe-kuo-6.21201, d = 3), and
+/// Bratley & Fox's recurrence m_k = 2 a_1 m_{k-1} ^ 4 m_{k-2} ^ m_{k-2}. Dimensions 0, 1
+/// and 2 together form a (1,3)-sequence in base 2 (Sobol's bound: t <= sum of (degree - 1)
+/// over the polynomials x, x + 1, x^2 + x + 1): every aligned block of 2^m indices is a
+/// (1,m,3)-net, each elementary box of volume 2^(1-m) holding exactly two points.
+/// kSobolDim2Columns[j] is the image of index bit j in the digit convention of
+/// pascal_mod2_transform (bit i = output digit i, of weight 2^-(i+1)).
+constexpr std::array<uint32_t, 32> make_sobol_dim2_columns() {
+    std::array<uint64_t, 33> m{};
+    m[1] = 1;
+    m[2] = 3;
+    for (int k = 3; k <= 32; ++k) m[k] = (2 * m[k - 1]) ^ (4 * m[k - 2]) ^ m[k - 2];
+    std::array<uint32_t, 32> columns{};
+    for (int j = 0; j < 32; ++j) {
+        // v_{j+1} = m_{j+1} / 2^(j+1) as 0.32 fixed point, then reversed into digit order.
+        uint32_t fixed = uint32_t(m[std::size_t(j + 1)] << (31 - j));
+        uint32_t digits = 0;
+        for (int i = 0; i < 32; ++i) digits |= ((fixed >> (31 - i)) & 1u) << i;
+        columns[std::size_t(j)] = digits;
+    }
+    return columns;
+}
+inline constexpr std::array<uint32_t, 32> kSobolDim2Columns = make_sobol_dim2_columns();
+
+/// The products of kSobolDim2Columns with each byte of an index (4 tables of 256).
+constexpr std::array<std::array<uint32_t, 256>, 4> make_sobol_dim2_bytes() {
+    std::array<std::array<uint32_t, 256>, 4> t{};
+    for (std::size_t b = 0; b < 4; ++b)
+        for (std::size_t v = 0; v < 256; ++v) {
+            uint32_t r = 0;
+            for (std::size_t j = 0; j < 8; ++j)
+                if ((v >> j) & 1) r ^= kSobolDim2Columns[8 * b + j];
+            t[b][v] = r;
+        }
+    return t;
+}
+inline constexpr std::array<std::array<uint32_t, 256>, 4> kSobolDim2Bytes = make_sobol_dim2_bytes();
+
+/// The Sobol dimension-2 digits of the low 32 bits of a (bit i = digit i, as
+/// pascal_mod2_transform); linear over GF(2) in a.
+constexpr uint32_t sobol_dim2_digits(uint32_t a) {
+    return kSobolDim2Bytes[0][a & 0xff] ^ kSobolDim2Bytes[1][(a >> 8) & 0xff] ^
+           kSobolDim2Bytes[2][(a >> 16) & 0xff] ^ kSobolDim2Bytes[3][a >> 24];
+}
+
+/// Dimension 2 of the Sobol sequence as 0.32 fixed point.
+constexpr uint32_t sobol_u32_dim2(uint64_t a) {
+    return reverse_bits32(sobol_dim2_digits(uint32_t(a)));
 }
 
 /// Spreads the 32 bits of v to the even bit positions of a 64-bit word.
