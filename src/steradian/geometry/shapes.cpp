@@ -237,6 +237,15 @@ ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) c
     return s;
 }
 
+bool TriangleMesh::behind_triangle(size_t i, Point3 ref) const {
+    if (n && !n->empty()) return false;
+    const auto& P = *p;
+    const uint32_t* v = &(*indices)[3 * i];
+    Point3 p0 = P[v[0]];
+    Float side = dot(ref - p0, cross(P[v[1]] - p0, P[v[2]] - p0));
+    return flip_normals ? side > 0 : side < 0;
+}
+
 Float TriangleMesh::pdf_triangle_from(size_t i, Point3 ref, Point3 p_light, Normal3 n_light) const {
     const auto& P = *p;
     const uint32_t* v = &(*indices)[3 * i];

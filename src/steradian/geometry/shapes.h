@@ -45,6 +45,10 @@ struct TriangleMesh {
     /// Strackee 1983),
     /// else uniformly by area. pdf: pdf_sa.
     ShapeSample sample_triangle_from(size_t i, Point3 ref, Point2 u) const;
+    /// True if ref lies strictly behind the plane of triangle i, seen from the side its
+    /// geometric normal (point_at's, orientation included) points to; for meshes with vertex
+    /// normals, whose orientation may vary over a triangle, always false.
+    bool behind_triangle(size_t i, Point3 ref) const;
     /// pdf_sa of sample_triangle_from choosing point p (normal n) on triangle i from ref.
     Float pdf_triangle_from(size_t i, Point3 ref, Point3 p_light, Normal3 n_light) const;
     /// Below this solid angle, area sampling is as good and cheaper; above the upper bound

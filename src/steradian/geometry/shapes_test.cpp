@@ -357,6 +357,27 @@ TEST(TriangleMesh, SampleNormalsFollowOrientation) {
 
 // ---- sphere and disk area sampling --------------------------------------------------------------
 
+TEST(TriangleMesh, BehindTriangleFollowsTheSampledNormal) {
+    // behind_triangle(ref) must say "behind" exactly when the normal that point_at reports
+    // faces away from ref, for both orientations.
+    Pcg32 rng(3, 4);
+    for (bool flip : {false, true}) {
+        TriangleMesh m = make_mesh({{0, 0, 0}, {2, 0, 1}, {0, 3, 1}}, {0, 1, 2});
+        m.flip_normals = flip;
+        ShapeSample c = m.point_at(0, Float(1) / 3, Float(1) / 3, Float(1) / 3);
+        for (int k = 0; k < 1000; ++k) {
+            Point3 ref(8 * rng.next_float() - 4, 8 * rng.next_float() - 4, 8 * rng.next_float() - 4);
+            Float side = dot(ref - c.p, c.n);
+            if (std::abs(side) < 1e-3f) continue;
+            EXPECT_EQ(m.behind_triangle(0, ref), side < 0) << "flip " << flip;
+        }
+    }
+    // With vertex normals the orientation may vary over the triangle: never "behind".
+    TriangleMesh mn = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2},
+                                {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+    EXPECT_FALSE(mn.behind_triangle(0, Point3(0.2f, 0.2f, -5)));
+}
+
 TEST(Shapes, SphereAndDiskAreaSamplingIsUniform) {
     // Uniform by area: on a sphere z and phi are uniform (Archimedes), on a disk r^2 and phi.
     const int n = 100000;

@@ -137,8 +137,12 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     const Filter& filter = *scene.filter;
     constexpr int kTile = 16;
 
+    // Passes exist for the time budget: whole passes of 1, 2, 4, ... up to 64 samples per
+    // pixel, so that stopping early still leaves an image of evenly many samples. Without a
+    // budget one pass does everything, so that the samplers compute the per-pixel parts of
+    // each dimension once per pixel rather than once per pass.
     int done = 0;
-    int pass_size = 1;
+    int pass_size = opt.time_budget > 0 ? 1 : total_spp;
     while (done < total_spp) {
         int s0 = done, s1 = std::min(total_spp, done + pass_size);
         std::vector<PixelSum> pass = film.make_buffer();

@@ -140,6 +140,8 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
                                                          const SampledWavelengths& lambda) const {
     ShapeSample ss;
     if (mesh) {
+        // A one-sided flat emitter sends nothing to points behind it: skip the sampling.
+        if (!two_sided && !goniometric && mesh->behind_triangle(prim, ctx.p)) return std::nullopt;
         ss = mesh->sample_triangle_from(prim, ctx.p, u);
     } else if (sphere) {
         ss = sphere->sample_from(ctx.p, u);
