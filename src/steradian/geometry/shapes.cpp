@@ -161,11 +161,13 @@ struct SphericalTriangle {
         Vec3 n_ab = cross(a, b), n_ac = cross(a, c);
         Float l_ab = length_squared(n_ab), l_ac = length_squared(n_ac);
         if (l_ab == 0 || l_ac == 0) return;
-        n_ab = n_ab / std::sqrt(l_ab);
-        n_ac = n_ac / std::sqrt(l_ac);
-        cos_alpha = clamp(dot(n_ab, n_ac), Float(-1), Float(1));
-        sin_alpha = length(cross(n_ab, n_ac));
+        // The angle between the planes (a, b) and (a, c): cos from the normals' dot product,
+        // sin from their cross product, (a x b) x (a x c) = (a . (b x c)) a for unit a, whose
+        // length is the triple product that the area needs anyway.
+        Float inv_len = 1 / std::sqrt(l_ab * l_ac);
         Float num = std::abs(dot(a, cross(b, c)));
+        cos_alpha = clamp(dot(n_ab, n_ac) * inv_len, Float(-1), Float(1));
+        sin_alpha = std::min(num * inv_len, Float(1));
         Float den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
         area = 2 * std::atan2(num, den);
         if (!(area > 0) || sin_alpha == 0) area = 0;
