@@ -25,15 +25,24 @@ DenselySampledSpectrum dense_from_table(const float* table) {
 
 // ---- per-struct evaluation ------------------------------------------------------------------
 
-Float DenselySampledSpectrum::operator()(Float lambda) const {
-    // O(1): index and linear interpolation between the two neighbouring integer wavelengths.
+namespace {
+
+/// O(1): index and linear interpolation between the two neighbouring integer wavelengths of a
+/// table of kDenseCount values from kLambdaMin; 0 outside the table.
+inline Float dense_lookup(const Float* v, Float lambda) {
     Float t = lambda - kLambdaMin;
-    if (!values || !(t >= 0 && t <= kLambdaMax - kLambdaMin)) return 0;
-    SR_DCHECK(int(values->size()) == kDenseCount);
+    if (!(t >= 0 && t <= kLambdaMax - kLambdaMin)) return 0;
     int i = std::min(int(t), kDenseCount - 2);
     Float f = t - Float(i);
-    const Float* v = values->data();
     return v[i] + f * (v[i + 1] - v[i]);
+}
+
+}  // namespace
+
+Float DenselySampledSpectrum::operator()(Float lambda) const {
+    if (!values) return 0;
+    SR_DCHECK(int(values->size()) == kDenseCount);
+    return dense_lookup(values->data(), lambda);
 }
 
 Float DenselySampledSpectrum::max_value() const {
@@ -114,6 +123,14 @@ Float Spectrum::operator()(Float lambda) const {
 }
 
 SampledSpectrum Spectrum::sample(const SampledWavelengths& lambda) const {
+    // Tabulated spectra (materials and most emitters after the scene builder) first: the table
+    // pointer is read once for the four wavelengths.
+    if (const auto* d = std::get_if<DenselySampledSpectrum>(&m_v); d && d->values) {
+        const Float* v = d->values->data();
+        SampledSpectrum r;
+        for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = dense_lookup(v, lambda.lambda[i]);
+        return r;
+    }
     // One dispatch per call; the loop over the wavelengths runs inside the alternative.
     return std::visit(
         [&lambda](const auto& s) {
