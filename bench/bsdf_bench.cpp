@@ -21,15 +21,6 @@ struct Instance {
     LobeVariant lobe;
 };
 
-SampledSpectrum tint(Float a, Float b, Float c, Float d) {
-    SampledSpectrum s;
-    s[0] = a;
-    s[1] = b;
-    s[2] = c;
-    s[3] = d;
-    return s;
-}
-
 std::vector<Instance> instances() {
     LafortuneLobe laf1;
     laf1.rho_d = SampledSpectrum(0.3f);
@@ -39,7 +30,7 @@ std::vector<Instance> instances() {
     laf3.lobes[1] = {0, 0, 1, 3, 0.3f};
     laf3.lobes[2] = {0.8f, 0.8f, 0.9f, 6, 0.3f};
     laf3.count = 3;
-    SampledSpectrum gold_eta = tint(0.2f, 0.4f, 0.9f, 1.3f), gold_k = tint(3.5f, 2.9f, 2.2f, 1.9f);
+    SampledSpectrum gold_eta({0.2f, 0.4f, 0.9f, 1.3f}), gold_k({3.5f, 2.9f, 2.2f, 1.9f});
     // pbrt-v4's coated defaults: smooth interface of eta 1.5, thickness 0.01, no medium albedo.
     CoatedDiffuseLobe coated_diffuse;
     coated_diffuse.top = DielectricLobe{1.5f, {}};

@@ -257,19 +257,7 @@ namespace {
 // stat suite instead.)
 class MaterialFurnace : public ::testing::TestWithParam<const char*> {};
 TEST_P(MaterialFurnace, LosslessMaterialIsInvisibleInAWhiteFurnace) {
-    std::string scene = fmt::format(R"(
-LookAt 0 0 -4  0 0 0  0 1 0
-Camera "perspective" "float fov" [ 30 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
-Sampler "independent" "integer pixelsamples" [ 64 ]
-Integrator "path" "integer maxdepth" [ 1000 ]
-PixelFilter "box"
-WorldBegin
-LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
-{}
-Shape "sphere" "float radius" [ 1 ]
-)",
-                                    GetParam());
+    std::string scene = furnace_scene(GetParam(), 64, 1000);
     Rendered r = render_string(scene);
     MeanSe m = mean_se(region(r, 4, 4, 12, 12));  // the sphere covers the centre
     std::printf("%s: %.5f +- %.5f (expected 1)\n", GetParam(), m.mean, m.se);
@@ -314,21 +302,12 @@ INSTANTIATE_TEST_SUITE_P(
 // radiance is (1 - amount) r0 + amount r1.
 TEST(Analytic, MixMaterialAveragesAlbedosByAmount) {
     const double r0 = 0.2, r1 = 0.8, amount = 0.3;
-    std::string scene = fmt::format(R"(
-LookAt 0 0 -4  0 0 0  0 1 0
-Camera "perspective" "float fov" [ 30 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
-Sampler "independent" "integer pixelsamples" [ 256 ]
-Integrator "path" "integer maxdepth" [ 5 ]
-PixelFilter "box"
-WorldBegin
-LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
-MakeNamedMaterial "a" "string type" "diffuse" "spectrum reflectance" {}
-MakeNamedMaterial "b" "string type" "diffuse" "spectrum reflectance" {}
-Material "mix" "string materials" [ "a" "b" ] "float amount" [ {} ]
-Shape "sphere" "float radius" [ 1 ]
-)",
-                                    flat(r0), flat(r1), amount);
+    std::string scene = furnace_scene(
+        fmt::format("MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"spectrum reflectance\" {}\n"
+                    "MakeNamedMaterial \"b\" \"string type\" \"diffuse\" \"spectrum reflectance\" {}\n"
+                    "Material \"mix\" \"string materials\" [ \"a\" \"b\" ] \"float amount\" [ {} ]",
+                    flat(r0), flat(r1), amount),
+        256, 5);
     Rendered r = render_string(scene);
     MeanSe m = mean_se(region(r, 4, 4, 12, 12));
     double expected = (1 - amount) * r0 + amount * r1;

@@ -14,19 +14,7 @@ namespace {
 constexpr double kZ = 4.5;  // tolerance in standard errors
 
 Rendered furnace(const std::string& material) {
-    return render_string(fmt::format(R"(
-LookAt 0 0 -4  0 0 0  0 1 0
-Camera "perspective" "float fov" [ 30 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
-Sampler "independent" "integer pixelsamples" [ 64 ]
-Integrator "path" "integer maxdepth" [ 1000 ]
-PixelFilter "box"
-WorldBegin
-LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
-{}
-Shape "sphere" "float radius" [ 1 ]
-)",
-                                     material));
+    return render_string(furnace_scene(material, 64, 1000));
 }
 
 class ConservingMaterial : public ::testing::TestWithParam<const char*> {};

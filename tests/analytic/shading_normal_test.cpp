@@ -12,22 +12,7 @@
 namespace sr::test {
 namespace {
 
-std::string plane_scene(const std::string& material) {
-    return R"(
-Scale -1 1 1
-LookAt 0 0 5  0 0 0  0 1 0
-Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
-Sampler "zsobol" "integer pixelsamples" [ 32 ]
-Integrator "path" "integer maxdepth" [ 1 ]
-PixelFilter "box"
-WorldBegin
-LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 3.14159265358979 ]
-)" + material + R"(
-Shape "bilinearmesh" "point3 P" [ -1 -1 0  1 -1 0  -1 1 0  1 1 0 ]
-    "point2 uv" [ 0 0  1 0  0 1  1 1 ]
-)";
-}
+std::string plane_scene(const std::string& material) { return lit_plane_scene(material, 32); }
 
 struct TempDir {
     std::filesystem::path path = std::filesystem::temp_directory_path() / "steradian_shading_normal_test";

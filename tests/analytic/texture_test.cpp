@@ -29,21 +29,10 @@ TEST(Texture, ImageMapTexelsComeBackAsTheirLinearRgb) {
         for (int x = 0; x < 4; ++x)
             for (float v : lin[(y / 2) * 2 + x / 2]) tex.data.push_back(v);
     write_image((dir / "tex.png").string(), tex);
-    std::string scene = R"(
-Scale -1 1 1
-LookAt 0 0 5  0 0 0  0 1 0
-Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
-Sampler "zsobol" "integer pixelsamples" [ 64 ]
-Integrator "path" "integer maxdepth" [ 1 ]
-PixelFilter "box"
-WorldBegin
-LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 3.14159265358979 ]
+    std::string scene = lit_plane_scene(R"(
 Texture "img" "spectrum" "imagemap" "string filename" "tex.png" "string wrap" "clamp"
 Material "diffuse" "texture reflectance" "img"
-Shape "bilinearmesh" "point3 P" [ -1 -1 0  1 -1 0  -1 1 0  1 1 0 ]
-    "point2 uv" [ 0 0  1 0  0 1  1 1 ]
-)";
+)", 64);
     Rendered r = render_string(scene, 2, 0, dir.string());
     // Block (i, j) of the image (row j from the top) covers uv [i/2, (i+1)/2] x
     // [1 - (j+1)/2, 1 - j/2]; bilinear lookups are constant within 3/8 of the outer edges,
@@ -72,16 +61,7 @@ Shape "bilinearmesh" "point3 P" [ -1 -1 0  1 -1 0  -1 1 0  1 1 0 ]
 // 0.75 x 0.2 + 0.25 x 0.6 = 0.3. Spectrally flat values under a light of pi lux: each
 // square's luminance is its reflectance.
 TEST(Texture, CheckerboardScaleAndMix) {
-    std::string scene = R"(
-Scale -1 1 1
-LookAt 0 0 5  0 0 0  0 1 0
-Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
-Sampler "zsobol" "integer pixelsamples" [ 64 ]
-Integrator "path" "integer maxdepth" [ 1 ]
-PixelFilter "box"
-WorldBegin
-LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 3.14159265358979 ]
+    std::string scene = lit_plane_scene(R"(
 Texture "k" "float" "scale" "float tex" 0.8 "float scale" 1
 Texture "a" "float" "mix" "float tex1" 0 "float tex2" 0.5 "float amount" 0.5
 Texture "s" "spectrum" "scale" "spectrum tex" [ 300 0.5 900 0.5 ] "texture scale" "k"
@@ -90,9 +70,7 @@ Texture "m" "spectrum" "mix" "spectrum tex1" [ 300 0.2 900 0.2 ] "spectrum tex2"
 Texture "checks" "spectrum" "checkerboard" "texture tex1" "s" "texture tex2" "m"
     "float uscale" 2 "float vscale" 2
 Material "diffuse" "texture reflectance" "checks"
-Shape "bilinearmesh" "point3 P" [ -1 -1 0  1 -1 0  -1 1 0  1 1 0 ]
-    "point2 uv" [ 0 0  1 0  0 1  1 1 ]
-)";
+)", 64);
     Rendered r = render_string(scene);
     // Block (i, j) (row j from the top) covers u in [i/2, (i+1)/2], v in [1 - (j+1)/2,
     // 1 - j/2]: floor(2u) + floor(2v) = i + (1 - j), even -> tex1 (0.4), odd -> tex2 (0.3).

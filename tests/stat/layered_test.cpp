@@ -76,15 +76,6 @@ CoatedConductorLobe coated_conductor(Float eta, TrowbridgeReitz mf, SampledSpect
     return make_layered(DielectricLobe{eta, mf}, ConductorLobe{ce, ck, mc}, s);
 }
 
-SampledSpectrum spectrum4(Float a, Float b, Float c, Float d) {
-    SampledSpectrum s;
-    s[0] = a;
-    s[1] = b;
-    s[2] = c;
-    s[3] = d;
-    return s;
-}
-
 // ---- running statistics -----------------------------------------------------------------
 
 struct Accum {
@@ -305,8 +296,8 @@ AnyLobe erase(const char* name, L lobe) {
 }
 
 // Gold-like conductor relative to a coating of eta 1.5 (eta and k of Au at ~600 nm / 1.5).
-const SampledSpectrum kAuEta = spectrum4(0.25f / 1.5f, 0.2f / 1.5f, 0.4f / 1.5f, 0.9f / 1.5f);
-const SampledSpectrum kAuK = spectrum4(3.0f / 1.5f, 3.3f / 1.5f, 2.6f / 1.5f, 2.0f / 1.5f);
+const SampledSpectrum kAuEta({0.25f / 1.5f, 0.2f / 1.5f, 0.4f / 1.5f, 0.9f / 1.5f});
+const SampledSpectrum kAuK({3.0f / 1.5f, 3.3f / 1.5f, 2.6f / 1.5f, 2.0f / 1.5f});
 
 std::vector<AnyLobe> configurations() {
     std::vector<AnyLobe> v;
@@ -316,9 +307,10 @@ std::vector<AnyLobe> configurations() {
     Slab absorbing{0.2f, SampledSpectrum(0), 0, 10, 1};
     v.push_back(erase("diffuse, rough coat 0.3, absorbing slab 0.2",
                       coated_diffuse(1.5f, {0.3f, 0.3f}, SampledSpectrum(0.8f), absorbing)));
-    Slab scattering{0.5f, spectrum4(0.9f, 0.5f, 0.7f, 0.2f), 0.6f, 10, 1};
+    Slab scattering{0.5f, SampledSpectrum({0.9f, 0.5f, 0.7f, 0.2f}), 0.6f, 10, 1};
     v.push_back(erase("diffuse, smooth coat, scattering slab g 0.6",
-                      coated_diffuse(1.5f, {}, spectrum4(0.6f, 0.3f, 0.9f, 0.5f), scattering)));
+                      coated_diffuse(1.5f, {}, SampledSpectrum({0.6f, 0.3f, 0.9f, 0.5f}),
+                                     scattering)));
     Slab back{0.3f, SampledSpectrum(0.7f), -0.3f, 10, 1};
     v.push_back(erase("diffuse, anisotropic rough coat (0.2, 0.5), slab g -0.3",
                       coated_diffuse(1.33f, {0.2f, 0.5f}, SampledSpectrum(0.5f), back)));

@@ -38,6 +38,46 @@ inline Rendered render_string(const std::string& pbrt, int threads = 2, int spp 
     return r;
 }
 
+/// A white furnace: a unit sphere (with `world`'s material lines) seen by a 16 x 16 camera
+/// under a uniform environment of radiance 1; the sphere covers the pixels [4, 12)^2.
+inline std::string furnace_scene(const std::string& world, int spp, int max_depth) {
+    return R"(
+LookAt 0 0 -4  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 30 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
+Sampler "independent" "integer pixelsamples" [ )" +
+           std::to_string(spp) + R"( ]
+Integrator "path" "integer maxdepth" [ )" +
+           std::to_string(max_depth) + R"( ]
+PixelFilter "box"
+WorldBegin
+LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
+)" + world + R"(
+Shape "sphere" "float radius" [ 1 ]
+)";
+}
+
+/// The square [-1, 1]^2 in z = 0 with uv (0,0)..(1,1) (u along raster x, v up), filling a 16 x
+/// 16 orthographic view and lit head-on by a distant light of pi lux, so that a Lambertian
+/// surface's radiance is its reflectance; `world` gives its textures and material.
+inline std::string lit_plane_scene(const std::string& world, int spp) {
+    return R"(
+Scale -1 1 1
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
+Sampler "zsobol" "integer pixelsamples" [ )" +
+           std::to_string(spp) + R"( ]
+Integrator "path" "integer maxdepth" [ 1 ]
+PixelFilter "box"
+WorldBegin
+LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 3.14159265358979 ]
+)" + world + R"(
+Shape "bilinearmesh" "point3 P" [ -1 -1 0  1 -1 0  -1 1 0  1 1 0 ]
+    "point2 uv" [ 0 0  1 0  0 1  1 1 ]
+)";
+}
+
 /// Mean and standard error of the mean over a set of (independent) pixel values.
 struct MeanSe {
     double mean = 0, se = 0;

@@ -30,6 +30,19 @@ std::optional<HalfVector> half_vector(Vec3 wo, Vec3 wi, Float eta) {
     return HalfVector{wm, etap, reflect};
 }
 
+/// wo reflected (reflect) or refracted by the microfacet wm; empty if the result does not
+/// leave on the side that branch requires (or refraction is total internal reflection).
+std::optional<Vec3> scatter_off(Vec3 wo, Vec3 wm, Float eta, bool reflect) {
+    Vec3 wi;
+    if (reflect) {
+        wi = sr::reflect(wo, wm);
+        if (!same_hemisphere(wo, wi)) return std::nullopt;
+    } else if (!refract(wo, wm, eta, nullptr, &wi) || same_hemisphere(wo, wi) || wi.z == 0) {
+        return std::nullopt;
+    }
+    return wi;
+}
+
 /// Jacobian |dwm / dwi| of the refraction half vector (Walter et al. 2007, Eq. 17, written
 /// with etap = n_i / n_o): |wi . wm| / (wi . wm + wo . wm / etap)^2.
 Float refraction_jacobian(Vec3 wo, Vec3 wi, Vec3 wm, Float etap) {
@@ -123,15 +136,9 @@ std::optional<BsdfSample> DielectricLobe::sample(Vec3 wo, Float uc, Point2 u,
     // Rough: a visible microfacet normal, then reflection or refraction off it with
     // probabilities R and T of that microfacet (as pbrt-v4's DielectricBxDF).
     Vec3 wm = mf.sample_wm(wo, u);
-    Float r = fr_dielectric(dot(wo, wm), eta);
-    Vec3 wi;
-    if (uc < r) {
-        wi = reflect(wo, wm);
-        if (!same_hemisphere(wo, wi)) return std::nullopt;
-    } else {
-        if (!refract(wo, wm, eta, nullptr, &wi) || same_hemisphere(wo, wi) || wi.z == 0)
-            return std::nullopt;
-    }
+    std::optional<Vec3> scattered = scatter_off(wo, wm, eta, uc < fr_dielectric(dot(wo, wm), eta));
+    if (!scattered) return std::nullopt;
+    Vec3 wi = *scattered;
     // f and pdf of the direction actually returned, through the same code as f() and pdf():
     // near the critical angle the refracted wi is ill-conditioned in wm, and the half vector
     // recomputed from (wo, wi) is the one that pdf() will see when MIS asks for this wi.
@@ -180,15 +187,9 @@ std::optional<BsdfSample> DielectricLobe::sample_branch(Vec3 wo, Point2 u, Trans
         return BsdfSample{SampledSpectrum(ft), wi, 1, kLobeTransmission | kLobeSpecular, etap};
     }
 
-    Vec3 wm = mf.sample_wm(wo, u);
-    Vec3 wi;
-    if (want_reflect) {
-        wi = reflect(wo, wm);
-        if (!same_hemisphere(wo, wi)) return std::nullopt;
-    } else {
-        if (!refract(wo, wm, eta, nullptr, &wi) || same_hemisphere(wo, wi) || wi.z == 0)
-            return std::nullopt;
-    }
+    std::optional<Vec3> scattered = scatter_off(wo, mf.sample_wm(wo, u), eta, want_reflect);
+    if (!scattered) return std::nullopt;
+    Vec3 wi = *scattered;
     // As in sample(): f and densities through the half vector of the returned direction.
     std::optional<HalfVector> h = half_vector(wo, wi, eta);
     if (!h || h->reflect != want_reflect) return std::nullopt;

@@ -37,6 +37,24 @@ Float hero_eta(const Spectrum& eta, bool dispersive, SampledWavelengths& lambda)
     return e > 0 ? e : 1;  // a tabulated spectrum is 0 outside its range
 }
 
+/// Complex IOR (eta, k) of a conductor: from its normal-incidence reflectance texture if it has
+/// one (reflectance >= 0: eta = 1 and r = k^2 / (4 + k^2), r capped at 0.9999), else its
+/// eta and k spectra.
+std::pair<SampledSpectrum, SampledSpectrum> conductor_ior(int reflectance, const Spectrum& eta,
+                                                          const Spectrum& k,
+                                                          const MaterialContext& ctx,
+                                                          const SurfaceHit& h,
+                                                          const SampledWavelengths& lambda) {
+    if (reflectance < 0) return {eta.sample(lambda), k.sample(lambda)};
+    SampledSpectrum r = clamped(evaluate((*ctx.spectrum_textures)[reflectance], h, lambda));
+    SampledSpectrum kr;
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+        Float ri = std::min(r[i], Float(0.9999));
+        kr[i] = 2 * std::sqrt(ri) / std::sqrt(1 - ri);
+    }
+    return {SampledSpectrum(1), kr};
+}
+
 /// Diffuse and specular albedos of the Phong and Ward materials: each clamped to [0, 1] and
 /// multiplied by the builder's energy scale; where their sum still exceeds 1 (a texture can
 /// make it so), both are divided by the sum, per wavelength, so that kd + ks <= 1.
@@ -159,19 +177,7 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
                 Float eta = hero_eta(mat.eta, mat.dispersive, lambda);
                 return Bsdf(shading_frame(h), h.ng, ThinDielectricLobe{eta});
             } else if constexpr (std::is_same_v<T, ConductorMaterial>) {
-                SampledSpectrum eta, k;
-                if (mat.reflectance >= 0) {
-                    // Normal-incidence reflectance r with eta = 1: r = k^2 / (4 + k^2).
-                    SampledSpectrum r = clamped(evaluate(tex[mat.reflectance], h, lambda));
-                    eta = SampledSpectrum(1);
-                    for (int i = 0; i < kSpectrumSamples; ++i) {
-                        Float ri = std::min(r[i], Float(0.9999));
-                        k[i] = 2 * std::sqrt(ri) / std::sqrt(1 - ri);
-                    }
-                } else {
-                    eta = mat.eta.sample(lambda);
-                    k = mat.k.sample(lambda);
-                }
+                auto [eta, k] = conductor_ior(mat.reflectance, mat.eta, mat.k, ctx, h, lambda);
                 return Bsdf(shading_frame(h), h.ng,
                             ConductorLobe{eta, k, microfacets(mat.roughness, ctx, h)});
             } else if constexpr (std::is_same_v<T, PhongMaterial>) {
@@ -201,19 +207,8 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
             } else if constexpr (std::is_same_v<T, CoatedConductorMaterial>) {
                 Float eta = hero_eta(mat.interface_eta, mat.dispersive, lambda);
                 DielectricLobe top{eta, microfacets(mat.interface_roughness, ctx, h)};
-                SampledSpectrum ce, ck;
-                if (mat.reflectance >= 0) {
-                    // As "conductor": eta = 1, k from the normal-incidence reflectance.
-                    SampledSpectrum r = clamped(evaluate(tex[mat.reflectance], h, lambda));
-                    ce = SampledSpectrum(1);
-                    for (int i = 0; i < kSpectrumSamples; ++i) {
-                        Float ri = std::min(r[i], Float(0.9999));
-                        ck[i] = 2 * std::sqrt(ri) / std::sqrt(1 - ri);
-                    }
-                } else {
-                    ce = mat.conductor_eta.sample(lambda);
-                    ck = mat.conductor_k.sample(lambda);
-                }
+                auto [ce, ck] = conductor_ior(mat.reflectance, mat.conductor_eta, mat.conductor_k,
+                                              ctx, h, lambda);
                 // The base sits under the coating: its IOR relative to the coating's.
                 ConductorLobe base{ce / eta, ck / eta, microfacets(mat.conductor_roughness, ctx, h)};
                 return Bsdf(shading_frame(h), h.ng,

@@ -20,6 +20,8 @@ struct SampledSpectrum {
 
     SampledSpectrum() = default;
     explicit SampledSpectrum(Float c) { v.fill(c); }
+    /// One value per wavelength, in the order of SampledWavelengths::lambda.
+    explicit SampledSpectrum(const std::array<Float, kSpectrumSamples>& values) : v(values) {}
     Float operator[](int i) const { return v[i]; }
     Float& operator[](int i) { return v[i]; }
 

@@ -56,12 +56,6 @@ Float PiecewiseLinearSpectrum::operator()(Float lambda) const {
     const std::vector<Float>& v = *values;
     if (!(lambda >= l.front() && lambda <= l.back())) return 0;
     if (l.size() == 1) return v[0];
-    if (inv_step > 0) {
-        Float x = (lambda - l.front()) * inv_step;
-        size_t i = std::min(size_t(x), l.size() - 2);
-        Float t = x - Float(i);
-        return v[i] + t * (v[i + 1] - v[i]);
-    }
     // First sample strictly above lambda; the segment is [i, i + 1].
     auto it = std::upper_bound(l.begin(), l.end(), lambda);
     size_t i = size_t(std::max<std::ptrdiff_t>(it - l.begin(), 1)) - 1;
@@ -173,13 +167,6 @@ PiecewiseLinearSpectrum piecewise_linear_from_interleaved(const std::vector<Floa
                             (*l)[i], (*l)[i - 1]));
     }
     PiecewiseLinearSpectrum s{l, v};
-    if (n >= 2) {
-        Float step = ((*l)[n - 1] - (*l)[0]) / Float(n - 1);
-        bool even = true;
-        for (size_t i = 1; i < n && even; ++i)
-            even = std::abs((*l)[i] - ((*l)[0] + Float(i) * step)) <= 1e-5f * step;
-        if (even) s.inv_step = 1 / step;
-    }
     if (normalize) {
         // pbrt-v4: scale so that the CIE Y of the spectrum (1 nm sums / kCieYIntegral) is 1.
         Float y = inner_product(Spectrum(s), Spectrum(cie_y()));

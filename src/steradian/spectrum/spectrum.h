@@ -32,9 +32,6 @@ struct DenselySampledSpectrum {
 /// Piecewise-linear through (lambda, value) pairs, zero outside the given range.
 struct PiecewiseLinearSpectrum {
     std::shared_ptr<const std::vector<Float>> lambdas, values;
-    /// 1 / spacing if the wavelengths are evenly spaced (as in most measured tables), so that
-    /// evaluation finds the segment by arithmetic rather than by search; 0 otherwise.
-    Float inv_step = 0;
     Float operator()(Float lambda) const;
     Float max_value() const;
 };
