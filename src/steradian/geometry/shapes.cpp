@@ -140,6 +140,36 @@ ShapeSample TriangleMesh::point_at(size_t i, Float b0, Float b1, Float b2) const
     return s;
 }
 
+Triangle TriangleMesh::triangle(size_t i) const {
+    const auto& P = *p;
+    const uint32_t* v = &(*indices)[3 * i];
+    Triangle t;
+    t.p0 = P[v[0]];
+    t.p1 = P[v[1]];
+    t.p2 = P[v[2]];
+    Vec3 c = cross(t.p1 - t.p0, t.p2 - t.p0);
+    Float len = length(c);
+    t.n = len > 0 ? c / len : Vec3(0, 0, 1);
+    if (flip_normals) t.n = -t.n;
+    t.inv_area = len > 0 ? 2 / len : 0;
+    if (n && !n->empty()) t.shaded_mesh = this;
+    t.index = uint32_t(i);
+    return t;
+}
+
+ShapeSample Triangle::point_at(Float b0, Float b1, Float b2) const {
+    if (shaded_mesh) return shaded_mesh->point_at(index, b0, b1, b2);
+    ShapeSample s;
+    s.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
+                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
+                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
+    s.p_error = abs_sum * gamma_bound(6);
+    s.n = n;
+    s.pdf = inv_area;
+    return s;
+}
+
 ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {
     auto b = sample_uniform_triangle(u);
     return point_at(i, b[0], b[1], b[2]);
@@ -200,21 +230,15 @@ bool use_spherical(Float omega) {
 
 }  // namespace
 
-Float TriangleMesh::solid_angle(size_t i, Point3 ref) const {
-    const auto& P = *p;
-    const uint32_t* v = &(*indices)[3 * i];
-    return SphericalTriangle(normalize(P[v[0]] - ref), normalize(P[v[1]] - ref),
-                             normalize(P[v[2]] - ref))
-        .area;
+Float Triangle::solid_angle(Point3 ref) const {
+    return SphericalTriangle(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref)).area;
 }
 
-ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) const {
-    const auto& P = *p;
-    const uint32_t* v = &(*indices)[3 * i];
-    Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
+ShapeSample Triangle::sample_from(Point3 ref, Point2 u) const {
     SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
     if (!use_spherical(st.area)) {
-        ShapeSample s = sample_triangle(i, u);
+        auto b = sample_uniform_triangle(u);
+        ShapeSample s = point_at(b[0], b[1], b[2]);
         s.pdf = area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
         return s;
     }
@@ -234,28 +258,32 @@ ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) c
             b2 /= sum;
         }
     }
-    ShapeSample s = point_at(i, 1 - b1 - b2, b1, b2);
+    ShapeSample s = point_at(1 - b1 - b2, b1, b2);
     s.pdf = 1 / st.area;  // uniform in solid angle
     return s;
 }
 
-bool TriangleMesh::behind_triangle(size_t i, Point3 ref) const {
-    if (n && !n->empty()) return false;
-    const auto& P = *p;
-    const uint32_t* v = &(*indices)[3 * i];
-    Point3 p0 = P[v[0]];
-    Float side = dot(ref - p0, cross(P[v[1]] - p0, P[v[2]] - p0));
-    return flip_normals ? side > 0 : side < 0;
+bool Triangle::behind(Point3 ref) const {
+    if (shaded_mesh) return false;
+    return dot(ref - p0, n) < 0;
 }
 
-Float TriangleMesh::pdf_triangle_from(size_t i, Point3 ref, Point3 p_light, Normal3 n_light) const {
-    const auto& P = *p;
-    const uint32_t* v = &(*indices)[3 * i];
-    SphericalTriangle st(normalize(P[v[0]] - ref), normalize(P[v[1]] - ref),
-                         normalize(P[v[2]] - ref));
-    if (!use_spherical(st.area))
-        return area_to_solid_angle_pdf(1 / triangle_area(i), ref, p_light, n_light);
+Float Triangle::pdf_from(Point3 ref, Point3 p_light, Normal3 n_light) const {
+    SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
+    if (!use_spherical(st.area)) return area_to_solid_angle_pdf(inv_area, ref, p_light, n_light);
     return 1 / st.area;
+}
+
+Float TriangleMesh::solid_angle(size_t i, Point3 ref) const { return triangle(i).solid_angle(ref); }
+
+ShapeSample TriangleMesh::sample_triangle_from(size_t i, Point3 ref, Point2 u) const {
+    return triangle(i).sample_from(ref, u);
+}
+
+bool TriangleMesh::behind_triangle(size_t i, Point3 ref) const { return triangle(i).behind(ref); }
+
+Float TriangleMesh::pdf_triangle_from(size_t i, Point3 ref, Point3 p_light, Normal3 n_light) const {
+    return triangle(i).pdf_from(ref, p_light, n_light);
 }
 
 // ---- spheres --------------------------------------------------------------------------

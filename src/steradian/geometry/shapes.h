@@ -20,6 +20,29 @@ struct ShapeSample {
     Float pdf = 0;      ///< pdf_area (per unit area) or pdf_sa (per solid angle), as stated
 };
 
+struct TriangleMesh;
+
+/// One triangle of a mesh with what sampling it from a point needs, computed once: its
+/// vertices, its oriented unit geometric normal and its area. Area lights keep one per
+/// emitting triangle, so that a light sample does not go through the mesh's index buffer
+/// or recompute the normal. The functions give the same values as the TriangleMesh
+/// functions of the same names (which use them).
+struct Triangle {
+    Point3 p0, p1, p2;
+    Normal3 n{0, 0, 1};  ///< unit geometric normal, oriented as point_at's (unless shaded)
+    Float inv_area = 0;  ///< 1 / area (0 for a degenerate triangle)
+    /// Set when the mesh has vertex normals: the normal of a point then depends on the
+    /// point (it faces the interpolated shading normal), so point_at asks the mesh.
+    const TriangleMesh* shaded_mesh = nullptr;
+    uint32_t index = 0;
+
+    ShapeSample point_at(Float b0, Float b1, Float b2) const;
+    ShapeSample sample_from(Point3 ref, Point2 u) const;
+    bool behind(Point3 ref) const;
+    Float pdf_from(Point3 ref, Point3 p_light, Normal3 n_light) const;
+    Float solid_angle(Point3 ref) const;
+};
+
 /// Triangle mesh in world space (or in an instance prototype's space).
 struct TriangleMesh {
     /// Vertex positions, padded with one extra element so Embree may read 16 bytes.
@@ -32,6 +55,8 @@ struct TriangleMesh {
     size_t num_vertices() const { return p->size() - 1; }
     /// Area of triangle i.
     Float triangle_area(size_t i) const;
+    /// Triangle i with its normal and area (see Triangle).
+    Triangle triangle(size_t i) const;
     /// The point of triangle i at barycentrics (b0, b1, b2), with its error bound and
     /// geometric normal; pdf = 1 / area (pdf_area).
     ShapeSample point_at(size_t i, Float b0, Float b1, Float b2) const;

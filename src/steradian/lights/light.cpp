@@ -139,10 +139,10 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
                                                          Point2 u,
                                                          const SampledWavelengths& lambda) const {
     ShapeSample ss;
-    if (mesh) {
+    if (triangle) {
         // A one-sided flat emitter sends nothing to points behind it: skip the sampling.
-        if (!two_sided && !goniometric && mesh->behind_triangle(prim, ctx.p)) return std::nullopt;
-        ss = mesh->sample_triangle_from(prim, ctx.p, u);
+        if (!two_sided && !goniometric && triangle->behind(ctx.p)) return std::nullopt;
+        ss = triangle->sample_from(ctx.p, u);
     } else if (sphere) {
         ss = sphere->sample_from(ctx.p, u);
     } else {
@@ -167,7 +167,7 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
 Float DiffuseAreaLight::pdf_li_point(const LightSampleContext& ctx, Point3 p_light,
                                      Normal3 n_light) const {
     if (sphere) return sphere->pdf_from(ctx.p, p_light, n_light);
-    if (mesh) return mesh->pdf_triangle_from(prim, ctx.p, p_light, n_light);
+    if (triangle) return triangle->pdf_from(ctx.p, p_light, n_light);
     return area_to_solid_angle_pdf(1 / area, ctx.p, p_light, n_light);
 }
 

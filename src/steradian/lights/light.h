@@ -163,10 +163,11 @@ struct GoniometricEmission {
 
 /// One emitting primitive (a triangle of a mesh, or a whole sphere or disk).
 struct DiffuseAreaLight {
-    const TriangleMesh* mesh = nullptr;  ///< exactly one of mesh, sphere, disk is set
+    /// Exactly one of triangle, sphere, disk is set. A mesh's triangle is kept by value
+    /// (TriangleMesh::triangle()), with its normal and area computed once.
+    std::optional<Triangle> triangle;
     const Sphere* sphere = nullptr;
     const Disk* disk = nullptr;
-    uint32_t prim = 0;
     Spectrum radiance;
     Float scale = 1;
     bool two_sided = false;

@@ -146,8 +146,7 @@ TEST(DiffuseAreaLight, TriangleIrradianceMatchesLambertsFormula) {
     ASSERT_LT(dot(ng, v[0]), 0) << "the test triangle must face the origin";
     TriangleMesh m = make_mesh({Point3(v[0]), Point3(v[1]), Point3(v[2])}, {0, 1, 2});
     DiffuseAreaLight light;
-    light.mesh = &m;
-    light.prim = 0;
+    light.triangle = m.triangle(0);
     light.radiance = ConstantSpectrum{Float(Lv)};
     light.area = m.triangle_area(0);
     for (Vec3d n : {Vec3d(0, 0, 1), normalize(Vec3d(0.3, -0.2, 1))}) {

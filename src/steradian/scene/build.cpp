@@ -1319,8 +1319,7 @@ private:
         if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
             for (size_t i = 0; i < mesh->num_triangles(); ++i) {
                 DiffuseAreaLight dl = make(mesh->triangle_area(i));
-                dl.mesh = mesh;
-                dl.prim = uint32_t(i);
+                dl.triangle = mesh->triangle(i);
                 s.lights.push_back(dl);
             }
         } else if (auto* sp = std::get_if<Sphere>(&e.geometry)) {
