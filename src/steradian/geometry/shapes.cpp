@@ -199,14 +199,15 @@ struct SphericalTriangle {
         cos_alpha = clamp(dot(n_ab, n_ac) * inv_len, Float(-1), Float(1));
         sin_alpha = std::min(num * inv_len, Float(1));
         Float den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
-        area = 2 * std::atan2(num, den);
+        area = 2 * fast_atan2(num, den);
         if (!(area > 0) || sin_alpha == 0) area = 0;
     }
     /// Arvo's (1995) area-preserving map from [0,1)^2 onto the triangle: u.x chooses the
     /// area A' = u.x area of the sub-triangle (a, b, c'), u.y the point on the arc from b
     /// towards c'. (With phi = A' + pi - alpha: sin phi and cos phi expand in A' and alpha.)
     Vec3 sample(Point2 u) const {
-        Float s_a = std::sin(u.x * area), c_a = std::cos(u.x * area);
+        Float s_a, c_a;
+        fast_sincos(u.x * area, s_a, c_a);
         // sin(A' + pi) = -sin A', cos(A' + pi) = -cos A'
         Float sin_phi = -s_a * cos_alpha + c_a * sin_alpha;
         Float cos_phi = -c_a * cos_alpha - s_a * sin_alpha;

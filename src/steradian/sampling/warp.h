@@ -33,15 +33,14 @@ inline Float azimuth_to_unit(Float x, Float y) {
 inline Point2 sample_uniform_disk_concentric(Point2 u) {
     Float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
     if (ox == 0 && oy == 0) return {0, 0};
-    Float r, theta;
+    // The angle is theta = phi (|ox| > |oy|) or pi/2 - phi, with |phi| <= pi/4.
+    Float s, c;
     if (std::abs(ox) > std::abs(oy)) {
-        r = ox;
-        theta = kPiOver4 * (oy / ox);
-    } else {
-        r = oy;
-        theta = kPiOver2 - kPiOver4 * (ox / oy);
+        sincos_pi4(kPiOver4 * (oy / ox), s, c);
+        return {ox * c, ox * s};
     }
-    return {r * std::cos(theta), r * std::sin(theta)};
+    sincos_pi4(kPiOver4 * (ox / oy), s, c);
+    return {oy * s, oy * c};
 }
 
 /// Inverse of sample_uniform_disk_concentric: a point of the unit disk back to [0,1)^2.
