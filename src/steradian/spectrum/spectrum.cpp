@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE4_1__)
+#include <smmintrin.h>
+#endif
 
 #include "steradian/core/error.h"
 #include "steradian/spectrum/cie_data.h"
@@ -122,7 +125,25 @@ SampledSpectrum Spectrum::sample(const SampledWavelengths& lambda) const {
     if (const auto* d = std::get_if<DenselySampledSpectrum>(&m_v); d && d->values) {
         const Float* v = d->values->data();
         SampledSpectrum r;
+#if defined(__SSE4_1__)
+        // dense_lookup for the four wavelengths at once (the same arithmetic; the clamp
+        // before the conversion keeps the index in the table for any input, NaN included).
+        static_assert(kSpectrumSamples == 4);
+        __m128 t = _mm_sub_ps(_mm_loadu_ps(lambda.lambda.data()), _mm_set1_ps(kLambdaMin));
+        __m128 inside = _mm_and_ps(_mm_cmpge_ps(t, _mm_setzero_ps()),
+                                   _mm_cmple_ps(t, _mm_set1_ps(kLambdaMax - kLambdaMin)));
+        __m128 tc = _mm_min_ps(_mm_max_ps(t, _mm_setzero_ps()), _mm_set1_ps(Float(kDenseCount - 2)));
+        __m128i i = _mm_cvttps_epi32(tc);
+        __m128 f = _mm_sub_ps(t, _mm_cvtepi32_ps(i));
+        alignas(16) int32_t ix[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(ix), i);
+        __m128 a = _mm_setr_ps(v[ix[0]], v[ix[1]], v[ix[2]], v[ix[3]]);
+        __m128 b = _mm_setr_ps(v[ix[0] + 1], v[ix[1] + 1], v[ix[2] + 1], v[ix[3] + 1]);
+        __m128 x = _mm_add_ps(a, _mm_mul_ps(f, _mm_sub_ps(b, a)));
+        _mm_storeu_ps(r.v.data(), _mm_and_ps(x, inside));
+#else
         for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = dense_lookup(v, lambda.lambda[i]);
+#endif
         return r;
     }
     // One dispatch per call; the loop over the wavelengths runs inside the alternative.

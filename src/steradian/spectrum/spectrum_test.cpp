@@ -167,6 +167,23 @@ TEST(Spectrum, SampleMatchesPointEvaluationForEveryAlternative) {
     }
 }
 
+TEST(Spectrum, DenseSampleMatchesPointEvaluationAtTheEndsAndOutside) {
+    // The four-wavelength table lookup: the table's ends, just outside them, far outside and
+    // NaN (0 outside the table, as the point evaluation).
+    Spectrum y(cie_y());
+    ASSERT_NE(y.get_if<DenselySampledSpectrum>(), nullptr);
+    const Float nan = std::numeric_limits<Float>::quiet_NaN();
+    for (std::array<Float, 4> l : {std::array<Float, 4>{kLambdaMin, kLambdaMax, 555.5f, 829.99f},
+                                   std::array<Float, 4>{359.99f, 830.01f, 100, 2000},
+                                   std::array<Float, 4>{nan, 360.5f, -1e30f, 1e30f}}) {
+        SampledWavelengths w;
+        w.lambda = l;
+        SampledSpectrum v = y.sample(w);
+        for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_FLOAT_EQ(v[i], y(l[i])) << l[i];
+    }
+    EXPECT_GT(y.sample(SampledWavelengths::sample_visible(0.5f)).max_value(), 0);
+}
+
 TEST(Spectrum, MaxValueBoundsEveryAlternative) {
     std::vector<Spectrum> all = {
         Spectrum(cie_z()),
