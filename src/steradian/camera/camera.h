@@ -25,6 +25,8 @@ public:
     virtual Ray generate_ray(Point2 p_film, Point2 u_lens) const = 0;
     /// World-space camera position (lens centre).
     virtual Point3 position() const = 0;
+    /// Whether generate_ray() uses its lens sample (a thin lens); a pinhole ignores it.
+    virtual bool uses_lens_sample() const = 0;
 };
 
 class PerspectiveCamera final : public Camera {
@@ -33,6 +35,7 @@ public:
     PerspectiveCamera(const CameraParams& params, Float fov_deg);
     Ray generate_ray(Point2 p_film, Point2 u_lens) const override;
     Point3 position() const override;
+    bool uses_lens_sample() const override { return m_p.lens_radius > 0; }
 
 private:
     CameraParams m_p;
@@ -46,6 +49,7 @@ public:
     explicit OrthographicCamera(const CameraParams& params);
     Ray generate_ray(Point2 p_film, Point2 u_lens) const override;
     Point3 position() const override;
+    bool uses_lens_sample() const override { return m_p.lens_radius > 0; }
 
 private:
     CameraParams m_p;

@@ -135,6 +135,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
 
     const Camera& camera = *scene.camera;
     const Filter& filter = *scene.filter;
+    const bool thin_lens = camera.uses_lens_sample();
     constexpr int kTile = 16;
 
     // Passes exist for the time budget: whole passes of 1, 2, 4, ... up to 64 samples per
@@ -165,7 +166,13 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                                 FilterSample fs = filter.sample(up);
                                 Float ul = sampler.get_pixel_1d();
                                 SampledWavelengths lambda = SampledWavelengths::sample_visible(ul);
-                                Point2 u_lens = sampler.get_2d();
+                                // The lens dimensions are consumed either way, so that
+                                // the path's dimensions do not depend on the camera.
+                                Point2 u_lens(0.5f, 0.5f);
+                                if (thin_lens)
+                                    u_lens = sampler.get_2d();
+                                else
+                                    sampler.skip_2d();
                                 Point2 p_film(Float(x) + 0.5f + fs.offset.x,
                                               Float(y) + 0.5f + fs.offset.y);
                                 Ray ray = camera.generate_ray(p_film, u_lens);

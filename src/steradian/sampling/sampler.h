@@ -62,6 +62,9 @@ class Sampler {
     virtual Float get_1d() = 0;
     /// Next two dimensions: a point in [0, 1)^2, stratified jointly where the sampler can.
     virtual Point2 get_2d() = 0;
+    /// Consumes the two dimensions get_2d() would, without computing them, for a sample the
+    /// caller has no use for (a pinhole camera's lens sample): later dimensions are unchanged.
+    virtual void skip_2d() = 0;
     /// The film-plane offset sample in [0, 1)^2 (the reserved dimensions 0 and 1); does not
     /// advance the dimension counter and may be called at any time after start_pixel_sample().
     virtual Point2 get_pixel_2d() = 0;
@@ -93,6 +96,10 @@ class IndependentSampler final : public Sampler {
         Float x = m_rng.next_float();
         return {x, m_rng.next_float()};
     }
+    void skip_2d() override {
+        m_rng.next_u32();
+        m_rng.next_u32();
+    }
     Point2 get_pixel_2d() override;
     Float get_pixel_1d() override;
     std::unique_ptr<Sampler> clone() const override;
@@ -117,6 +124,7 @@ class StratifiedSampler final : public Sampler {
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override;
     Point2 get_2d() override;
+    void skip_2d() override { m_dimension += 2; }
     Point2 get_pixel_2d() override { return sample_2d(0); }
     Float get_pixel_1d() override { return sample_1d(2); }
     std::unique_ptr<Sampler> clone() const override;
@@ -182,6 +190,7 @@ class ZSobolSampler final : public Sampler {
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override;
     Point2 get_2d() override;
+    void skip_2d() override { m_dimension += 2; }
     Point2 get_pixel_2d() override { return sample_2d(0); }
     /// Sobol dimension 2 of get_pixel_2d()'s index, scrambled with dimension 2's key.
     Float get_pixel_1d() override;
@@ -288,6 +297,7 @@ class PaddedSobolSampler final : public Sampler {
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override;
     Point2 get_2d() override;
+    void skip_2d() override { m_dimension += 2; }
     Point2 get_pixel_2d() override { return sample_2d(0); }
     /// Sobol dimension 2 of get_pixel_2d()'s shuffled index, scrambled with dimension 2's key.
     Float get_pixel_1d() override;

@@ -127,6 +127,23 @@ TEST(Sampler, DimensionArgumentSkipsDimensions) {
     }
 }
 
+TEST(Sampler, Skip2dConsumesWhatGet2dWould) {
+    // Including across the last low-discrepancy dimensions into the hashed ones.
+    for (const Config& c : all_configs()) {
+        auto s = c.make(16, 3);
+        for (int k : {0, 1, 14, 15, 16, 40}) {
+            s->start_pixel_sample({4, 9}, 7, k);
+            s->get_2d();
+            Float expected1 = s->get_1d();
+            Point2 expected2 = s->get_2d();
+            s->start_pixel_sample({4, 9}, 7, k);
+            s->skip_2d();
+            EXPECT_EQ(s->get_1d(), expected1) << c.label << " k " << k;
+            EXPECT_EQ(s->get_2d(), expected2) << c.label << " k " << k;
+        }
+    }
+}
+
 TEST(Sampler, ValuesInHalfOpenUnitIntervalWithMeanOneHalf) {
     for (const Config& c : all_configs()) {
         for (int spp : {1, 12, 64}) {
