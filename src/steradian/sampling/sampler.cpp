@@ -406,12 +406,21 @@ template <int kLog2Spp>
     return sobol_2d_float(uint32_t(a), y_digits, m_randomize, m_scramble_key[i]);
 }
 
+template <int kLog2Spp>
+Float ZSobolSampler::pixel_1d_impl(ZSobolSampler& s, int) {
+    if (!(s.m_prefix_valid & 1)) s.fill_pixel_dimension(0);
+    uint64_t a = s.m_prefix[0] | s.sample_digits<kLog2Spp>(s.m_dim_key[0], s.m_top_choice[0]);
+    return sobol_1d_float(sobol_dim2_digits(uint32_t(a)), s.m_randomize,
+                          uint32_t(s.m_scramble_key[2]));
+}
+
 void ZSobolSampler::select_kernels() {
     switch (m_log2_spp) {
 #define SR_ZSOBOL_CASE(m)                    \
     case m:                                  \
         m_get_1d_fn = &get_1d_impl<m>;       \
         m_sample_2d_fn = &sample_2d_impl<m>; \
+        m_pixel_1d_fn = &pixel_1d_impl<m>;   \
         return;
         SR_ZSOBOL_CASE(0)
         SR_ZSOBOL_CASE(1)
@@ -426,6 +435,7 @@ void ZSobolSampler::select_kernels() {
         default:
             m_get_1d_fn = &get_1d_impl<-1>;
             m_sample_2d_fn = &sample_2d_impl<-1>;
+            m_pixel_1d_fn = &pixel_1d_impl<-1>;
     }
 }
 
@@ -448,11 +458,7 @@ Point2 ZSobolSampler::sample_2d(int d) {
     return m_sample_2d_fn(*this, d);
 }
 
-Float ZSobolSampler::get_pixel_1d() {
-    if (!(m_prefix_valid & 1)) fill_pixel_dimension(0);
-    uint64_t a = m_prefix[0] | sample_digits<-1>(m_dim_key[0], m_top_choice[0]);
-    return sobol_1d_float(sobol_dim2_digits(uint32_t(a)), m_randomize, uint32_t(m_scramble_key[2]));
-}
+Float ZSobolSampler::get_pixel_1d() { return m_pixel_1d_fn(*this, 0); }
 
 std::unique_ptr<Sampler> ZSobolSampler::clone() const {
     return std::make_unique<ZSobolSampler>(*this);

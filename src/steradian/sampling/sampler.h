@@ -223,6 +223,8 @@ class ZSobolSampler final : public Sampler {
     static Point2 fill_and_sample_2d(ZSobolSampler& s, int d);
     template <int kLog2Spp>
     Point2 value_2d(int d) const;
+    template <int kLog2Spp>
+    static Float pixel_1d_impl(ZSobolSampler& s, int);
     /// The shuffled sample digits (the low m bits of the index) for a dimension's key, given
     /// the permutation of the highest sample digit (top_sample_choice()). kLog2Spp < 0: m from
     /// m_log2_spp.
@@ -254,6 +256,7 @@ class ZSobolSampler final : public Sampler {
     std::array<uint64_t, kLowDiscrepancyDimensions> m_scramble_key{};  // point scrambling key
     Get1dFn m_get_1d_fn = nullptr;
     Sample2dFn m_sample_2d_fn = nullptr;
+    Get1dFn m_pixel_1d_fn = nullptr;
 
     // Current pixel; memoized per-dimension values.
     bool m_have_pixel = false;
