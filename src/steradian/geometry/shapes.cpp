@@ -31,6 +31,18 @@ void to_world(const Transform& t, Point3 p_obj, Vec3 err_obj, Point3& p, Vec3& e
     }
 }
 
+/// The point at barycentrics (b0, b1, b2) of a triangle, and its conservative error bound
+/// gamma(N) sum |b_i p_i| per axis (N: the rounding steps of the caller's computation).
+template <int N>
+inline void interpolate(Point3 p0, Point3 p1, Point3 p2, Float b0, Float b1, Float b2, Point3& p,
+                        Vec3& err) {
+    p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
+                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
+                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
+    err = abs_sum * gamma_bound(N);
+}
+
 }  // namespace
 
 // ---- triangles ------------------------------------------------------------------------
@@ -121,11 +133,7 @@ ShapeSample TriangleMesh::point_at(size_t i, Float b0, Float b1, Float b2) const
     const uint32_t* v = &(*indices)[3 * i];
     Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
     ShapeSample s;
-    s.p = p0 * b0 + p1 * b1 + p2 * b2;
-    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
-                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
-                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
-    s.p_error = abs_sum * gamma_bound(6);
+    interpolate<6>(p0, p1, p2, b0, b1, b2, s.p, s.p_error);
     Vec3 c = cross(p1 - p0, p2 - p0);
     Float len = length(c);
     Normal3 ng = len > 0 ? c / len : Vec3(0, 0, 1);
@@ -160,11 +168,7 @@ Triangle TriangleMesh::triangle(size_t i) const {
 ShapeSample Triangle::point_at(Float b0, Float b1, Float b2) const {
     if (shaded_mesh) return shaded_mesh->point_at(index, b0, b1, b2);
     ShapeSample s;
-    s.p = p0 * b0 + p1 * b1 + p2 * b2;
-    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
-                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
-                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
-    s.p_error = abs_sum * gamma_bound(6);
+    interpolate<6>(p0, p1, p2, b0, b1, b2, s.p, s.p_error);
     s.n = n;
     s.pdf = inv_area;
     return s;
