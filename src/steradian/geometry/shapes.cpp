@@ -31,18 +31,6 @@ void to_world(const Transform& t, Point3 p_obj, Vec3 err_obj, Point3& p, Vec3& e
     }
 }
 
-/// The point at barycentrics (b0, b1, b2) of a triangle, and its conservative error bound
-/// gamma(N) sum |b_i p_i| per axis (N: the rounding steps of the caller's computation).
-template <int N>
-inline void interpolate(Point3 p0, Point3 p1, Point3 p2, Float b0, Float b1, Float b2, Point3& p,
-                        Vec3& err) {
-    p = p0 * b0 + p1 * b1 + p2 * b2;
-    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
-                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
-                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
-    err = abs_sum * gamma_bound(N);
-}
-
 }  // namespace
 
 // ---- triangles ------------------------------------------------------------------------
@@ -128,26 +116,6 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
     h.ng = ng;
 }
 
-ShapeSample TriangleMesh::point_at(size_t i, Float b0, Float b1, Float b2) const {
-    const auto& P = *p;
-    const uint32_t* v = &(*indices)[3 * i];
-    Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
-    ShapeSample s;
-    interpolate<6>(p0, p1, p2, b0, b1, b2, s.p, s.p_error);
-    Vec3 c = cross(p1 - p0, p2 - p0);
-    Float len = length(c);
-    Normal3 ng = len > 0 ? c / len : Vec3(0, 0, 1);
-    if (flip_normals) ng = -ng;
-    if (n && !n->empty()) {
-        // As fill_hit: the geometric normal faces the interpolated shading normal.
-        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
-        if (length_squared(ns) > 0) ng = face_forward(ng, ns);
-    }
-    s.n = ng;
-    s.pdf = len > 0 ? 2 / len : 0;  // 1 / area
-    return s;
-}
-
 Triangle TriangleMesh::triangle(size_t i) const {
     const auto& P = *p;
     const uint32_t* v = &(*indices)[3 * i];
@@ -165,13 +133,31 @@ Triangle TriangleMesh::triangle(size_t i) const {
     return t;
 }
 
-ShapeSample Triangle::point_at(Float b0, Float b1, Float b2) const {
-    if (shaded_mesh) return shaded_mesh->point_at(index, b0, b1, b2);
+ShapeSample TriangleMesh::point_at(size_t i, Float b0, Float b1, Float b2) const {
+    ShapeSample s = triangle(i).flat_point_at(b0, b1, b2);
+    if (n && !n->empty()) {
+        // As fill_hit: the geometric normal faces the interpolated shading normal.
+        const uint32_t* v = &(*indices)[3 * i];
+        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
+        if (length_squared(ns) > 0) s.n = face_forward(s.n, ns);
+    }
+    return s;
+}
+
+ShapeSample Triangle::flat_point_at(Float b0, Float b1, Float b2) const {
     ShapeSample s;
-    interpolate<6>(p0, p1, p2, b0, b1, b2, s.p, s.p_error);
+    s.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
+                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
+                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
+    s.p_error = abs_sum * gamma_bound(6);
     s.n = n;
     s.pdf = inv_area;
     return s;
+}
+
+ShapeSample Triangle::point_at(Float b0, Float b1, Float b2) const {
+    return shaded_mesh ? shaded_mesh->point_at(index, b0, b1, b2) : flat_point_at(b0, b1, b2);
 }
 
 ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {

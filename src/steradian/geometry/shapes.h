@@ -37,6 +37,8 @@ struct Triangle {
     uint32_t index = 0;
 
     ShapeSample point_at(Float b0, Float b1, Float b2) const;
+    /// point_at with this triangle's own normal, whatever the mesh's vertex normals.
+    ShapeSample flat_point_at(Float b0, Float b1, Float b2) const;
     ShapeSample sample_from(Point3 ref, Point2 u) const;
     bool behind(Point3 ref) const;
     Float pdf_from(Point3 ref, Point3 p_light, Normal3 n_light) const;

@@ -93,27 +93,34 @@ inline SampledSpectrum exp(const SampledSpectrum& a) {
     return r;
 }
 
-/// pdf of the visible-wavelength importance distribution, p(l) proportional to
-/// 1/cosh^2(0.0072 (l - 538)) on [360, 830] nm (the sampling density pbrt-v4 uses;
-/// Radziszewski et al. 2009 proposed this family). Zero outside the range.
+/// The visible-wavelength importance distribution, p(l) proportional to
+/// 1/cosh^2(kVisibleRate (l - kVisiblePeak)) on [360, 830] nm (the sampling density pbrt-v4
+/// uses; Radziszewski et al. 2009 proposed this family). Its inverse CDF is
+/// l = kVisiblePeak - atanh(y) / kVisibleRate with y = kVisibleY0 - kVisibleYSlope u.
+inline constexpr Float kVisiblePeak = 538;               ///< nm
+inline constexpr Float kVisibleRate = 0.0072f;           ///< 1/nm
+inline constexpr Float kVisibleInvRate = 138.888889f;    ///< 1 / kVisibleRate, nm
+inline constexpr Float kVisiblePdfScale = 0.0039398042f; ///< normalisation over [360, 830], 1/nm
+inline constexpr Float kVisibleY0 = 0.85691062f;         ///< tanh(kVisibleRate (538 - 360))
+inline constexpr Float kVisibleYSlope = 1.82750197f;     ///< kVisibleY0 + tanh(kVisibleRate (830 - 538))
+
+/// pdf of the visible-wavelength importance distribution; zero outside [360, 830] nm.
 inline Float visible_wavelengths_pdf(Float lambda) {
     if (lambda < kLambdaMin || lambda > kLambdaMax) return 0;
-    return Float(0.0039398042) / sqr(std::cosh(Float(0.0072) * (lambda - 538)));
+    return kVisiblePdfScale / sqr(std::cosh(kVisibleRate * (lambda - kVisiblePeak)));
 }
 /// Inverse-CDF sample of visible_wavelengths_pdf for u in [0, 1).
 inline Float sample_visible_wavelengths(Float u) {
-    return 538 - Float(138.888889) * std::atanh(Float(0.85691062) - Float(1.82750197) * u);
+    return kVisiblePeak - kVisibleInvRate * std::atanh(kVisibleY0 - kVisibleYSlope * u);
 }
-/// Both at once, cheaply: with y = 0.85691062 - 1.82750197 u the sample is
-/// 538 - atanh(y) / 0.0072, and since cosh^2(atanh y) = 1 / (1 - y^2) its pdf is
-/// 0.0039398042 (1 - y^2): one logarithm, no cosh.
+/// Both at once, cheaply: since cosh^2(atanh y) = 1 / (1 - y^2) the pdf is
+/// kVisiblePdfScale (1 - y^2): one logarithm, no cosh.
 inline Float sample_visible_wavelengths(Float u, Float& pdf) {
-    Float y = Float(0.85691062) - Float(1.82750197) * u;
-    pdf = Float(0.0039398042) * (1 - y * y);
-    return 538 - Float(138.888889) * Float(0.5) * std::log((1 + y) / (1 - y));
+    Float y = kVisibleY0 - kVisibleYSlope * u;
+    pdf = kVisiblePdfScale * (1 - y * y);
+    return kVisiblePeak - kVisibleInvRate * Float(0.5) * std::log((1 + y) / (1 - y));
 }
 
-/// The wavelengths of one path and their sampling pdfs.
 #if defined(__SSE4_1__)
 /// Natural logarithm of four positive, finite, normal floats: x = 2^e m with m in
 /// [sqrt(1/2), sqrt(2)), log m = 2 atanh(s) with s = (m - 1) / (m + 1), |s| < 0.172, by the
@@ -139,6 +146,7 @@ inline __m128 log_ps(__m128 x) {
 }
 #endif
 
+/// The wavelengths of one path and their sampling pdfs.
 struct SampledWavelengths {
     std::array<Float, kSpectrumSamples> lambda{};
     std::array<Float, kSpectrumSamples> pdf{};
@@ -165,13 +173,14 @@ struct SampledWavelengths {
         // sample_visible_wavelengths(up, pdf) for the four rotations at once.
         __m128 up = _mm_add_ps(_mm_set1_ps(hero), _mm_setr_ps(0, 0.25f, 0.5f, 0.75f));
         up = _mm_sub_ps(up, _mm_and_ps(_mm_cmpge_ps(up, _mm_set1_ps(1)), _mm_set1_ps(1)));
-        __m128 y = _mm_sub_ps(_mm_set1_ps(0.85691062f), _mm_mul_ps(_mm_set1_ps(1.82750197f), up));
+        __m128 y = _mm_sub_ps(_mm_set1_ps(kVisibleY0), _mm_mul_ps(_mm_set1_ps(kVisibleYSlope), up));
         __m128 one = _mm_set1_ps(1);
-        _mm_storeu_ps(w.pdf.data(), _mm_mul_ps(_mm_set1_ps(0.0039398042f),
+        _mm_storeu_ps(w.pdf.data(), _mm_mul_ps(_mm_set1_ps(kVisiblePdfScale),
                                                _mm_sub_ps(one, _mm_mul_ps(y, y))));
         __m128 l = log_ps(_mm_div_ps(_mm_add_ps(one, y), _mm_sub_ps(one, y)));
-        _mm_storeu_ps(w.lambda.data(), _mm_sub_ps(_mm_set1_ps(538),
-                                                  _mm_mul_ps(_mm_set1_ps(Float(138.888889 * 0.5)), l)));
+        _mm_storeu_ps(w.lambda.data(),
+                      _mm_sub_ps(_mm_set1_ps(kVisiblePeak),
+                                 _mm_mul_ps(_mm_set1_ps(kVisibleInvRate * Float(0.5)), l)));
 #else
         for (int i = 0; i < kSpectrumSamples; ++i) {
             Float up = hero + Float(i) / kSpectrumSamples;

@@ -65,12 +65,14 @@ TEST(SampledWavelengths, SampleVisibleInvertsTheCdfAtEveryRotation) {
         for (int i = 0; i < kSpectrumSamples; ++i) {
             double up = hero + double(i) / kSpectrumSamples;
             if (up >= 1) up -= 1;
-            double y = 0.85691062 - 1.82750197 * up;
-            double lambda = 538 - 138.888889 * std::atanh(y);
+            // From the definition: p proportional to 1/cosh^2(r (l - 538)) on [360, 830].
+            const double r = 0.0072, lo = std::tanh(r * (538 - 360)), hi = std::tanh(r * (830 - 538));
+            double y = lo - (lo + hi) * up;
+            double lambda = 538 - std::atanh(y) / r;
             EXPECT_NEAR(w.lambda[i], lambda, 1e-3) << u << " " << i;
             // y carries float rounding of about 1.2e-7; 1 - y^2 >= 0.058 then has relative
             // error up to 2 |y| 1.2e-7 / 0.058 < 5e-6.
-            EXPECT_NEAR(w.pdf[i], 0.0039398042 * (1 - y * y), 5e-6 * w.pdf[i]);
+            EXPECT_NEAR(w.pdf[i], r / (lo + hi) * (1 - y * y), 5e-6 * w.pdf[i]);
         }
     }
 }
