@@ -20,7 +20,7 @@ using testing::direction_deg;
 
 SampledSpectrum spectrum(Float a, Float b, Float c, Float d) {
     SampledSpectrum s;
-    s.v = {a, b, c, d};
+    s.v = Float4{a, b, c, d};
     return s;
 }
 

@@ -140,7 +140,7 @@ TEST(Fresnel, GoldAtNormalIncidence) {
 
 TEST(Fresnel, SpectralDielectricMatchesScalar) {
     SampledSpectrum eta;
-    eta.v = {1.3f, 1.5f, 1 / 1.5f, 2.0f};
+    eta.v = Float4{1.3f, 1.5f, 1 / 1.5f, 2.0f};
     SampledSpectrum r = fr_dielectric(0.4f, eta);
     // Equal up to rounding: the compiler may vectorise or contract the two forms differently.
     for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_FLOAT_EQ(r[i], fr_dielectric(0.4f, eta[i]));

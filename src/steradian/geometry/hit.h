@@ -2,6 +2,9 @@
 /// Ray-surface intersection records and robust ray spawning.
 #include <cstdint>
 #include <cstring>
+#if defined(__SSE4_1__)
+#include <smmintrin.h>
+#endif
 
 #include "steradian/core/math.h"
 
@@ -52,11 +55,40 @@ inline Float next_float_down(Float v) {
 }
 
 /// Offsets p along n far enough to escape the error box p_error, on the side of w
-/// (Pharr et al., "Physically Based Rendering", 4th ed., sec. 6.8.6).
+/// (Pharr et al., "Physically Based Rendering", 4th ed., sec. 6.8.6): p + d n (or - d n when
+/// w points below the surface), d = |n| . p_error, with each component then stepped one float
+/// further in the direction of its offset (next_float_up where it is positive, next_float_down
+/// where it is negative, unchanged where it is 0).
 inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
     Float d = std::abs(n.x) * p_error.x + std::abs(n.y) * p_error.y + std::abs(n.z) * p_error.z;
+    if (dot(w, n) < 0) d = -d;
+#if defined(__SSE4_1__)
+    // The three components in one register. Written per component through Point3's
+    // operator[], the compiler keeps po in memory and reloads two of the separately stored
+    // floats as one 8-byte value: a store-to-load forwarding stall on every spawned ray.
+    // Here the step is integer arithmetic on the bits: +1 where po and the offset have the
+    // same sign (the magnitude grows), -1 where they differ; from +-0 to the smallest
+    // denormal of the offset's sign; an infinity stepped outwards stays infinite.
+    __m128 off = _mm_mul_ps(_mm_setr_ps(n.x, n.y, n.z, 0), _mm_set1_ps(d));
+    __m128 po = _mm_add_ps(_mm_setr_ps(p.x, p.y, p.z, 0), off);
+    __m128i bits = _mm_castps_si128(po), off_bits = _mm_castps_si128(off);
+    const __m128i sign = _mm_set1_epi32(int32_t(0x80000000u));
+    __m128i moving = _mm_castps_si128(
+        _mm_or_ps(_mm_cmpgt_ps(off, _mm_setzero_ps()), _mm_cmplt_ps(off, _mm_setzero_ps())));
+    __m128i magnitude = _mm_andnot_si128(sign, bits);
+    __m128i same = _mm_cmpgt_epi32(_mm_xor_si128(bits, off_bits), _mm_set1_epi32(-1));
+    __m128i step = _mm_sub_epi32(_mm_and_si128(same, _mm_set1_epi32(2)), _mm_set1_epi32(1));
+    __m128i inf_out = _mm_and_si128(same, _mm_cmpeq_epi32(magnitude, _mm_set1_epi32(0x7f800000)));
+    step = _mm_and_si128(_mm_andnot_si128(inf_out, step), moving);
+    __m128i stepped = _mm_add_epi32(bits, step);
+    __m128i from_zero = _mm_or_si128(_mm_and_si128(off_bits, sign), _mm_set1_epi32(1));
+    __m128i at_zero = _mm_and_si128(moving, _mm_cmpeq_epi32(magnitude, _mm_setzero_si128()));
+    __m128 r = _mm_castsi128_ps(_mm_blendv_epi8(stepped, from_zero, at_zero));
+    alignas(16) Float c[4];
+    _mm_store_ps(c, r);
+    return {c[0], c[1], c[2]};
+#else
     Vec3 offset = n * d;
-    if (dot(w, n) < 0) offset = -offset;
     Point3 po = p + offset;
     for (int i = 0; i < 3; ++i) {
         if (offset[i] > 0)
@@ -65,6 +97,7 @@ inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
             po[i] = next_float_down(po[i]);
     }
     return po;
+#endif
 }
 
 /// A ray leaving the hit in direction w (any length).

@@ -16,7 +16,7 @@ Frame shading_frame(const SurfaceHit& h) {
 }
 
 SampledSpectrum clamped(SampledSpectrum s) {
-    for (auto& v : s.v) v = clamp(v, Float(0), Float(1));
+    for (int i = 0; i < kSpectrumSamples; ++i) s[i] = clamp(s[i], Float(0), Float(1));
     return s;
 }
 

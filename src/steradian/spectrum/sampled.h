@@ -17,34 +17,38 @@ inline constexpr int kSpectrumSamples = 4;
 inline constexpr Float kLambdaMin = 360;  ///< nm, lower end of the tabulated range
 inline constexpr Float kLambdaMax = 830;  ///< nm, upper end of the tabulated range
 
+/// Four floats as one SSE value (a GCC/Clang vector type: element access v[i], element-wise
+/// arithmetic). A struct whose only member is one of these is passed and returned in a single
+/// xmm register (SysV x86-64 ABI class SSE+SSEUP). A std::array<float, 4> member is passed in
+/// two (one per eight bytes), and the caller then re-packs the halves through the stack into
+/// one 16-byte value, which stalls store-to-load forwarding on every non-inlined return.
+using Float4 = Float __attribute__((vector_size(4 * sizeof(Float))));
+
 /// Values of a spectral quantity at the path's wavelengths.
 struct SampledSpectrum {
-    std::array<Float, kSpectrumSamples> v{};
+    static_assert(kSpectrumSamples == 4 && sizeof(Float) == 4, "v holds four floats");
+    Float4 v{};
 
     SampledSpectrum() = default;
-    explicit SampledSpectrum(Float c) { v.fill(c); }
+    explicit SampledSpectrum(Float c) : v{c, c, c, c} {}
+    explicit SampledSpectrum(Float4 values) : v(values) {}
     /// One value per wavelength, in the order of SampledWavelengths::lambda.
-    explicit SampledSpectrum(const std::array<Float, kSpectrumSamples>& values) : v(values) {}
+    explicit SampledSpectrum(const std::array<Float, kSpectrumSamples>& values)
+        : v{values[0], values[1], values[2], values[3]} {}
     Float operator[](int i) const { return v[i]; }
     Float& operator[](int i) { return v[i]; }
 
 #define SR_SS_OP(op)                                                                   \
     SampledSpectrum operator op(const SampledSpectrum& o) const {                      \
-        SampledSpectrum r;                                                             \
-        for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = v[i] op o.v[i];            \
-        return r;                                                                      \
+        return SampledSpectrum(v op o.v);                                              \
     }                                                                                  \
     SampledSpectrum& operator op##=(const SampledSpectrum& o) {                        \
-        for (int i = 0; i < kSpectrumSamples; ++i) v[i] op## = o.v[i];                 \
+        v = v op o.v;                                                                  \
         return *this;                                                                  \
     }                                                                                  \
-    SampledSpectrum operator op(Float s) const {                                       \
-        SampledSpectrum r;                                                             \
-        for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = v[i] op s;                 \
-        return r;                                                                      \
-    }                                                                                  \
+    SampledSpectrum operator op(Float s) const { return SampledSpectrum(v op s); }     \
     SampledSpectrum& operator op##=(Float s) {                                         \
-        for (int i = 0; i < kSpectrumSamples; ++i) v[i] op## = s;                      \
+        v = v op s;                                                                    \
         return *this;                                                                  \
     }
     SR_SS_OP(+)
@@ -60,29 +64,17 @@ struct SampledSpectrum {
         return r;
     }
     bool is_zero() const {
-        for (Float x : v)
-            if (x != 0) return false;
-        return true;
+        // One comparison of the four values (no early exit whose branch depends on the data).
+        auto nonzero = v != Float4{};
+        return (nonzero[0] | nonzero[1] | nonzero[2] | nonzero[3]) == 0;
     }
     explicit operator bool() const { return !is_zero(); }
-    Float max_value() const {
-        Float m = v[0];
-        for (int i = 1; i < kSpectrumSamples; ++i) m = std::max(m, v[i]);
-        return m;
-    }
-    Float min_value() const {
-        Float m = v[0];
-        for (int i = 1; i < kSpectrumSamples; ++i) m = std::min(m, v[i]);
-        return m;
-    }
-    Float average() const {
-        Float s = 0;
-        for (Float x : v) s += x;
-        return s / kSpectrumSamples;
-    }
+    Float max_value() const { return std::max(std::max(v[0], v[1]), std::max(v[2], v[3])); }
+    Float min_value() const { return std::min(std::min(v[0], v[1]), std::min(v[2], v[3])); }
+    Float average() const { return ((v[0] + v[1]) + (v[2] + v[3])) / kSpectrumSamples; }
     bool has_nonfinite() const {
-        for (Float x : v)
-            if (!std::isfinite(x)) return true;
+        for (int i = 0; i < kSpectrumSamples; ++i)
+            if (!std::isfinite(v[i])) return true;
         return false;
     }
 };

@@ -132,7 +132,7 @@ TEST(SampledWavelengths, TerminateSecondaryKeepsEstimatorUnbiased) {
 
 TEST(SampledSpectrum, Arithmetic) {
     SampledSpectrum a(2), b;
-    b.v = {1, 0, 4, -1};
+    b.v = Float4{1, 0, 4, -1};
     SampledSpectrum q = a.safe_div(b);
     EXPECT_EQ(q[0], 2);
     EXPECT_EQ(q[1], 0);

@@ -140,7 +140,7 @@ SampledSpectrum Spectrum::sample(const SampledWavelengths& lambda) const {
         __m128 a = _mm_setr_ps(v[ix[0]], v[ix[1]], v[ix[2]], v[ix[3]]);
         __m128 b = _mm_setr_ps(v[ix[0] + 1], v[ix[1] + 1], v[ix[2] + 1], v[ix[3] + 1]);
         __m128 x = _mm_add_ps(a, _mm_mul_ps(f, _mm_sub_ps(b, a)));
-        _mm_storeu_ps(r.v.data(), _mm_and_ps(x, inside));
+        r.v = Float4(_mm_and_ps(x, inside));
 #else
         for (int i = 0; i < kSpectrumSamples; ++i) r.v[i] = dense_lookup(v, lambda.lambda[i]);
 #endif
