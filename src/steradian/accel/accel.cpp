@@ -169,6 +169,10 @@ struct Accel::Impl {
             shape = top_geom_shape[rh.hit.geomID];
         }
         const ShapeEntry& e = shapes[shape];
+        // Every field of h is written, whatever it held (the path integrator reuses one
+        // record per path): the shapes' fills write all but the normal derivatives, which
+        // only curved shading normals have.
+        h.dndu = h.dndv = Vec3(0, 0, 0);
         h.t = rh.ray.tfar;
         h.shape = shape;
         h.prim = rh.hit.primID;

@@ -227,30 +227,35 @@ Float Triangle::solid_angle(Point3 ref) const {
 
 ShapeSample Triangle::sample_from(Point3 ref, Point2 u) const {
     SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
-    if (!use_spherical(st.area)) {
-        auto b = sample_uniform_triangle(u);
-        ShapeSample s = point_at(b[0], b[1], b[2]);
-        s.pdf = area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
-        return s;
-    }
-    Vec3 w = st.sample(u);
-    // Intersect ref + t w with the triangle's plane for barycentrics (Moller-Trumbore).
-    Vec3 e1 = p1 - p0, e2 = p2 - p0;
-    Vec3 s1 = cross(w, e2);
-    Float divisor = dot(s1, e1);
-    Float b1 = Float(1) / 3, b2 = Float(1) / 3;
-    if (divisor != 0) {
-        Vec3 sd = ref - p0;
-        b1 = clamp(dot(sd, s1) / divisor, Float(0), Float(1));
-        b2 = clamp(dot(w, cross(sd, e1)) / divisor, Float(0), Float(1));
-        if (b1 + b2 > 1) {
-            Float sum = b1 + b2;
-            b1 /= sum;
-            b2 /= sum;
+    const bool spherical = use_spherical(st.area);
+    std::array<Float, 3> b;
+    if (!spherical) {
+        b = sample_uniform_triangle(u);
+    } else {
+        Vec3 w = st.sample(u);
+        // Intersect ref + t w with the triangle's plane for barycentrics (Moller-Trumbore).
+        Vec3 e1 = p1 - p0, e2 = p2 - p0;
+        Vec3 s1 = cross(w, e2);
+        Float divisor = dot(s1, e1);
+        Float b1 = Float(1) / 3, b2 = Float(1) / 3;
+        if (divisor != 0) {
+            Vec3 sd = ref - p0;
+            b1 = clamp(dot(sd, s1) / divisor, Float(0), Float(1));
+            b2 = clamp(dot(w, cross(sd, e1)) / divisor, Float(0), Float(1));
+            if (b1 + b2 > 1) {
+                Float sum = b1 + b2;
+                b1 /= sum;
+                b2 /= sum;
+            }
         }
+        b = {1 - b1 - b2, b1, b2};
     }
-    ShapeSample s = point_at(1 - b1 - b2, b1, b2);
-    s.pdf = 1 / st.area;  // uniform in solid angle
+    // One result, initialised from point_at and returned, so that it is built in the
+    // caller's object: a copy out of a local, written field by field and read back in
+    // 16-byte pieces, stalled store-to-load forwarding on every light sample.
+    ShapeSample s = point_at(b[0], b[1], b[2]);
+    s.pdf = spherical ? 1 / st.area  // uniform in solid angle
+                      : area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
     return s;
 }
 

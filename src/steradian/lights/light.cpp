@@ -153,15 +153,20 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
     Vec3 d = ss.p - ctx.p;
     Float dist2 = length_squared(d);
     if (dist2 == 0) return std::nullopt;
-    LightLiSample s;
-    s.wi = d / std::sqrt(dist2);
-    s.L = l(ss.n, -s.wi, lambda);
-    if (s.L.is_zero()) return std::nullopt;
+    Vec3 wi = d / std::sqrt(dist2);
+    SampledSpectrum L = l(ss.n, -wi, lambda);
+    if (L.is_zero()) return std::nullopt;
+    // Built in the returned object: a local LightLiSample, written field by field and then
+    // copied out in 16-byte pieces, stalled store-to-load forwarding on every sample.
+    std::optional<LightLiSample> r(std::in_place);
+    LightLiSample& s = *r;
+    s.L = L;
+    s.wi = wi;
     s.pdf_sa = ss.pdf;
     s.p_light = ss.p;
     s.p_error = ss.p_error;
     s.n_light = ss.n;
-    return s;
+    return r;
 }
 
 Float DiffuseAreaLight::pdf_li_point(const LightSampleContext& ctx, Point3 p_light,

@@ -153,14 +153,13 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
     const auto& tex = *ctx.spectrum_textures;
     const MaterialCommon& common =
         std::visit([](const auto& x) -> const MaterialCommon& { return x; }, m);
-    SurfaceHit h_perturbed;
-    const SurfaceHit* hp = &h_in;
+    // Only a perturbed hit is copied (an unused SurfaceHit local cost a 136-byte zero fill).
+    std::optional<SurfaceHit> h_perturbed;
     if (common.normal_map || common.displacement >= 0) {
-        h_perturbed = h_in;
-        perturb_shading(common, ctx, h_perturbed);
-        hp = &h_perturbed;
+        h_perturbed.emplace(h_in);
+        perturb_shading(common, ctx, *h_perturbed);
     }
-    const SurfaceHit& h = *hp;
+    const SurfaceHit& h = h_perturbed ? *h_perturbed : h_in;
     return std::visit(
         [&](const auto& mat) -> std::optional<Bsdf> {
             using T = std::decay_t<decltype(mat)>;

@@ -89,7 +89,8 @@ public:
     void finalize_geometry();
     /// Builds the light sampler; call once the lights are final.
     void finalize_lights();
-    /// Closest hit along the ray in (0, ray.t_max); fills h (position, normals, uv, ids).
+    /// Closest hit along the ray in (0, ray.t_max); fills h (position, normals, uv, ids),
+    /// writing every field of it whatever it held before (so one record may be reused).
     bool intersect(const Ray& ray, SurfaceHit& h) const;
     /// True if anything blocks the ray in (0, ray.t_max).
     bool occluded(const Ray& ray) const;

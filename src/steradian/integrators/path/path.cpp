@@ -35,17 +35,21 @@ public:
 
     /// Follows `ray` until the path ends.
     void trace(Ray ray) {
+        // One hit record for the whole path: Scene::intersect writes every field of it, and a
+        // fresh one per segment cost a 136-byte zero fill (rep stos) each time.
+        SurfaceHit hit;
         while (true) {
-            SurfaceHit hit;
             ++m_counters.rays;
             if (!m_scene.intersect(ray, hit)) {
                 escaped(ray);
                 return;
             }
             if (hit.light >= 0) emitted(hit);
-            std::optional<Bsdf> bsdf;
-            if (hit.material >= 0)
-                bsdf = make_bsdf(m_scene.materials[hit.material], m_mctx, hit, m_lambda);
+            // Initialised from make_bsdf's result itself (assigning it copied it once more).
+            std::optional<Bsdf> bsdf =
+                hit.material >= 0
+                    ? make_bsdf(m_scene.materials[hit.material], m_mctx, hit, m_lambda)
+                    : std::nullopt;
             if (!bsdf) {
                 // Interface: continue straight through without counting a bounce (bounded,
                 // in case a degenerate surface keeps returning the same hit).
@@ -53,41 +57,39 @@ public:
                 ray = spawn_ray(hit, ray.d);
                 continue;
             }
-            auto next = scatter(hit, *bsdf);
-            if (!next) return;
-            ray = *next;
+            if (!scatter(hit, *bsdf, ray)) return;
         }
     }
 
-    /// Light sampling and BSDF sampling at a scattering vertex; the continuation ray, or
-    /// nothing when the path ends here.
-    std::optional<Ray> scatter(const SurfaceHit& hit, const Bsdf& bsdf) {
-        if (m_depth++ == m_max_depth) return std::nullopt;
-        LightSampleContext ctx{hit.p, hit.p_error, hit.ng};
+    /// Light sampling and BSDF sampling at a scattering vertex. Returns false when the path
+    /// ends here, else true with the continuation ray in `next` (written in place: a returned
+    /// std::optional<Ray> was copied out through the stack, stalling the loads).
+    bool scatter(const SurfaceHit& hit, const Bsdf& bsdf, Ray& next) {
+        if (m_depth++ == m_max_depth) return false;
+        // The vertex's context, kept for the MIS weight of emission the BSDF sample finds.
+        m_prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
         if (m_use_nee && bsdf.has_non_specular() && !m_scene.light_sampler.empty())
-            sample_light(hit, bsdf, ctx);
+            sample_light(hit, bsdf, m_prev_ctx);
 
         Float uc = m_sampler.get_1d();
         Point2 u = m_sampler.get_2d();
         auto bs = bsdf.sample(hit.wo, uc, u);
-        if (!bs) return std::nullopt;
+        if (!bs) return false;
         m_beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
         m_specular_bounce = bs->is_specular();
         m_prev_pdf_sa = bs->pdf_sa;
-        m_prev_ctx = ctx;
         if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
-        Ray ray = spawn_ray(hit, bs->wi);
+        next = spawn_ray(hit, bs->wi);
 
         // Russian roulette (unbiased: survivors are reweighted by 1 / (1 - q)).
         SampledSpectrum rr_beta = m_beta * m_eta_scale;
         Float m = rr_beta.max_value();
         if (m < 1 && m_depth > 1) {
             Float q = std::max(Float(0), 1 - m);
-            if (m_sampler.get_1d() < q) return std::nullopt;
+            if (m_sampler.get_1d() < q) return false;
             m_beta /= 1 - q;
         }
-        if (m_beta.is_zero()) return std::nullopt;
-        return ray;
+        return !m_beta.is_zero();
     }
 
 private:
@@ -185,7 +187,8 @@ SampledSpectrum path_lo(const Scene& scene, const SurfaceHit& vertex, const Bsdf
                         SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
                         const PathLimits& limits) {
     PathState path(scene, lambda, sampler, counters, limits);
-    if (auto ray = path.scatter(vertex, bsdf)) path.trace(*ray);
+    Ray ray;
+    if (path.scatter(vertex, bsdf, ray)) path.trace(ray);
     return path.L;
 }
 
