@@ -94,11 +94,16 @@ class Bsdf {
     std::optional<BsdfSample> sample(Vec3 wo_w, Float uc, Point2 u,
                                      TransportMode mode = TransportMode::Radiance) const {
         Vec3 wo = m_frame.to_local(wo_w);
-        if (wo.z == 0) return std::nullopt;
-        auto s = std::visit([&](const auto& l) { return l.sample(wo, uc, u, mode); }, m_lobe);
-        if (!s || s->f.is_zero() || s->pdf_sa == 0 || s->wi.z == 0) return std::nullopt;
-        s->wi = m_frame.to_world(s->wi);
-        if (mode == TransportMode::Importance) s->f *= adjoint_factor(wo_w, s->wi, mode);
+        // Every return returns s, so that it is the caller's object (with an early
+        // `return std::nullopt` the compiler built s locally and copied it out).
+        std::optional<BsdfSample> s =
+            wo.z != 0 ? std::visit([&](const auto& l) { return l.sample(wo, uc, u, mode); }, m_lobe)
+                      : std::nullopt;
+        if (s && (s->f.is_zero() || s->pdf_sa == 0 || s->wi.z == 0)) s.reset();
+        if (s) {
+            s->wi = m_frame.to_world(s->wi);
+            if (mode == TransportMode::Importance) s->f *= adjoint_factor(wo_w, s->wi, mode);
+        }
         return s;
     }
     /// Solid-angle pdf of sampling wi given wo (world space).

@@ -138,34 +138,25 @@ Float UniformInfiniteLight::phi_y() const {
 std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContext& ctx,
                                                          Point2 u,
                                                          const SampledWavelengths& lambda) const {
-    ShapeSample ss;
-    if (triangle) {
-        // A one-sided flat emitter sends nothing to points behind it: skip the sampling.
-        if (!two_sided && !goniometric && triangle->behind(ctx.p)) return std::nullopt;
-        ss = triangle->sample_from(ctx.p, u);
-    } else if (sphere) {
-        ss = sphere->sample_from(ctx.p, u);
-    } else {
-        ss = disk->sample_area(u);
-        ss.pdf = area_to_solid_angle_pdf(ss.pdf, ctx.p, ss.p, ss.n);
-    }
-    if (ss.pdf == 0 || !std::isfinite(ss.pdf)) return std::nullopt;
+    // Every return returns r, so that it is the caller's object: a local sample, written
+    // field by field and copied out in 16-byte pieces, stalled store-to-load forwarding.
+    std::optional<LightLiSample> r;
+    // A one-sided flat emitter sends nothing to points behind it: skip the sampling.
+    if (triangle && !two_sided && !goniometric && triangle->behind(ctx.p)) return r;
+    // Initialised by the sampler itself (a default-constructed ShapeSample assigned from
+    // it cost a zero fill and a copy).
+    ShapeSample ss = triangle ? triangle->sample_from(ctx.p, u)
+                     : sphere ? sphere->sample_from(ctx.p, u)
+                              : disk->sample_area(u);
+    if (!triangle && !sphere) ss.pdf = area_to_solid_angle_pdf(ss.pdf, ctx.p, ss.p, ss.n);
+    if (ss.pdf == 0 || !std::isfinite(ss.pdf)) return r;
     Vec3 d = ss.p - ctx.p;
     Float dist2 = length_squared(d);
-    if (dist2 == 0) return std::nullopt;
+    if (dist2 == 0) return r;
     Vec3 wi = d / std::sqrt(dist2);
     SampledSpectrum L = l(ss.n, -wi, lambda);
-    if (L.is_zero()) return std::nullopt;
-    // Built in the returned object: a local LightLiSample, written field by field and then
-    // copied out in 16-byte pieces, stalled store-to-load forwarding on every sample.
-    std::optional<LightLiSample> r(std::in_place);
-    LightLiSample& s = *r;
-    s.L = L;
-    s.wi = wi;
-    s.pdf_sa = ss.pdf;
-    s.p_light = ss.p;
-    s.p_error = ss.p_error;
-    s.n_light = ss.n;
+    if (L.is_zero()) return r;
+    r.emplace(L, wi, ss.pdf, ss.p, ss.p_error, ss.n);
     return r;
 }
 
