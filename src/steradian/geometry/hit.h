@@ -58,10 +58,24 @@ inline Float next_float_down(Float v) {
 /// (Pharr et al., "Physically Based Rendering", 4th ed., sec. 6.8.6): p + d n (or - d n when
 /// w points below the surface), d = |n| . p_error, with each component then stepped one float
 /// further in the direction of its offset (next_float_up where it is positive, next_float_down
-/// where it is negative, unchanged where it is 0).
-inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
+/// where it is negative, unchanged where it is 0). This is that definition, one component at a
+/// time; offset_ray_origin computes the same bits faster.
+inline Point3 offset_ray_origin_per_component(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
     Float d = std::abs(n.x) * p_error.x + std::abs(n.y) * p_error.y + std::abs(n.z) * p_error.z;
-    if (dot(w, n) < 0) d = -d;
+    Vec3 offset = n * d;
+    if (dot(w, n) < 0) offset = -offset;
+    Point3 po = p + offset;
+    for (int i = 0; i < 3; ++i) {
+        if (offset[i] > 0)
+            po[i] = next_float_up(po[i]);
+        else if (offset[i] < 0)
+            po[i] = next_float_down(po[i]);
+    }
+    return po;
+}
+
+/// offset_ray_origin_per_component's result (bit for bit), for spawning rays.
+inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
 #if defined(__SSE4_1__)
     // The three components in one register. Written per component through Point3's
     // operator[], the compiler keeps po in memory and reloads two of the separately stored
@@ -69,6 +83,8 @@ inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
     // Here the step is integer arithmetic on the bits: +1 where po and the offset have the
     // same sign (the magnitude grows), -1 where they differ; from +-0 to the smallest
     // denormal of the offset's sign; an infinity stepped outwards stays infinite.
+    Float d = std::abs(n.x) * p_error.x + std::abs(n.y) * p_error.y + std::abs(n.z) * p_error.z;
+    if (dot(w, n) < 0) d = -d;
     __m128 off = _mm_mul_ps(_mm_setr_ps(n.x, n.y, n.z, 0), _mm_set1_ps(d));
     __m128 po = _mm_add_ps(_mm_setr_ps(p.x, p.y, p.z, 0), off);
     __m128i bits = _mm_castps_si128(po), off_bits = _mm_castps_si128(off);
@@ -88,15 +104,7 @@ inline Point3 offset_ray_origin(Point3 p, Vec3 p_error, Normal3 n, Vec3 w) {
     _mm_store_ps(c, r);
     return {c[0], c[1], c[2]};
 #else
-    Vec3 offset = n * d;
-    Point3 po = p + offset;
-    for (int i = 0; i < 3; ++i) {
-        if (offset[i] > 0)
-            po[i] = next_float_up(po[i]);
-        else if (offset[i] < 0)
-            po[i] = next_float_down(po[i]);
-    }
-    return po;
+    return offset_ray_origin_per_component(p, p_error, n, w);
 #endif
 }
 
