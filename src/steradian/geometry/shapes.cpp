@@ -134,17 +134,10 @@ Triangle TriangleMesh::triangle(size_t i) const {
 }
 
 ShapeSample TriangleMesh::point_at(size_t i, Float b0, Float b1, Float b2) const {
-    ShapeSample s = triangle(i).flat_point_at(b0, b1, b2);
-    if (n && !n->empty()) {
-        // As fill_hit: the geometric normal faces the interpolated shading normal.
-        const uint32_t* v = &(*indices)[3 * i];
-        Normal3 ns = (*n)[v[0]] * b0 + (*n)[v[1]] * b1 + (*n)[v[2]] * b2;
-        if (length_squared(ns) > 0) s.n = face_forward(s.n, ns);
-    }
-    return s;
+    return triangle(i).point_at(b0, b1, b2);
 }
 
-ShapeSample Triangle::flat_point_at(Float b0, Float b1, Float b2) const {
+ShapeSample Triangle::point_at(Float b0, Float b1, Float b2) const {
     ShapeSample s;
     s.p = p0 * b0 + p1 * b1 + p2 * b2;
     Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
@@ -152,12 +145,15 @@ ShapeSample Triangle::flat_point_at(Float b0, Float b1, Float b2) const {
                  std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
     s.p_error = abs_sum * gamma_bound(6);
     s.n = n;
+    if (shaded_mesh) {
+        // As fill_hit: the geometric normal faces the interpolated shading normal.
+        const auto& N = *shaded_mesh->n;
+        const uint32_t* v = &(*shaded_mesh->indices)[3 * index];
+        Normal3 ns = N[v[0]] * b0 + N[v[1]] * b1 + N[v[2]] * b2;
+        if (length_squared(ns) > 0) s.n = face_forward(s.n, ns);
+    }
     s.pdf = inv_area;
     return s;
-}
-
-ShapeSample Triangle::point_at(Float b0, Float b1, Float b2) const {
-    return shaded_mesh ? shaded_mesh->point_at(index, b0, b1, b2) : flat_point_at(b0, b1, b2);
 }
 
 ShapeSample TriangleMesh::sample_triangle(size_t i, Point2 u) const {

@@ -32,13 +32,13 @@ struct Triangle {
     Normal3 n{0, 0, 1};  ///< unit geometric normal, oriented as point_at's (unless shaded)
     Float inv_area = 0;  ///< 1 / area (0 for a degenerate triangle)
     /// Set when the mesh has vertex normals: the normal of a point then depends on the
-    /// point (it faces the interpolated shading normal), so point_at asks the mesh.
+    /// point (it faces the interpolated shading normal), so point_at reads the mesh's
+    /// normals of triangle `index`.
     const TriangleMesh* shaded_mesh = nullptr;
     uint32_t index = 0;
 
+    /// As TriangleMesh::point_at for this triangle.
     ShapeSample point_at(Float b0, Float b1, Float b2) const;
-    /// point_at with this triangle's own normal, whatever the mesh's vertex normals.
-    ShapeSample flat_point_at(Float b0, Float b1, Float b2) const;
     ShapeSample sample_from(Point3 ref, Point2 u) const;
     bool behind(Point3 ref) const;
     Float pdf_from(Point3 ref, Point3 p_light, Normal3 n_light) const;
