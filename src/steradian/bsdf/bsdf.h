@@ -2,7 +2,9 @@
 /// The BSDF at a surface point: one lobe (a std::variant of plain structs, each satisfying
 /// the Lobe concept) in a shading frame. World-space wrappers convert directions and
 /// enforce the geometric-normal side test against light leaks.
+#include <array>
 #include <concepts>
+#include <utility>
 #include <variant>
 
 #include "steradian/bsdf/bxdf_common.h"
@@ -29,6 +31,11 @@ concept Lobe = requires(const L& l, Vec3 w, Float uc, Point2 u, TransportMode m)
 using LobeVariant = std::variant<LambertLobe, DielectricLobe, ThinDielectricLobe, ConductorLobe,
                                  DiffuseTransmissionLobe, PhongLobe, LafortuneLobe, WardLobe,
                                  CoatedDiffuseLobe, CoatedConductorLobe>;
+/// Whether a lobe's sample() reads its 1D sample uc; a lobe that does not says so with
+/// `static constexpr bool kIgnoresUc = true`.
+template <typename L>
+inline constexpr bool kLobeUsesUc = !requires { requires L::kIgnoresUc; };
+
 static_assert(Lobe<LambertLobe>);
 static_assert(Lobe<DielectricLobe>);
 static_assert(Lobe<ThinDielectricLobe>);
@@ -54,6 +61,8 @@ class Bsdf {
         return (f & kLobeSpecular) && !(f & (kLobeDiffuse | kLobeGlossy));
     }
     bool has_non_specular() const { return flags() & (kLobeDiffuse | kLobeGlossy); }
+    /// Whether sample() reads uc: if not, the caller may skip computing it (Sampler::skip_1d).
+    bool uses_uc() const { return kUsesUc[m_lobe.index()]; }
 
     /// f(wo, wi) for world-space unit directions (no cosine).
     SampledSpectrum f(Vec3 wo_w, Vec3 wi_w, TransportMode mode = TransportMode::Radiance) const {
@@ -117,6 +126,11 @@ class Bsdf {
     const LobeVariant& lobe() const { return m_lobe; }
 
   private:
+    static constexpr auto kUsesUc = []<std::size_t... I>(std::index_sequence<I...>) {
+        return std::array<bool, sizeof...(I)>{
+            kLobeUsesUc<std::variant_alternative_t<I, LobeVariant>>...};
+    }(std::make_index_sequence<std::variant_size_v<LobeVariant>>());
+
     Frame m_frame;
     Normal3 m_ng;
     LobeVariant m_lobe;

@@ -40,5 +40,43 @@ TEST(BsdfAdjoint, ShadingNormalCorrectionBalancesBothDirections) {
     EXPECT_FLOAT_EQ(flat.f(a, c, TransportMode::Importance)[0], flat.f(a, c, TransportMode::Radiance)[0]);
 }
 
+// A lobe that declares kIgnoresUc lets the path skip computing uc (Bsdf::uses_uc): its
+// sample() must then be the same whatever uc is. A lobe that chooses between components
+// with uc (a dielectric's reflection or transmission) must report that it uses it.
+TEST(BsdfUsesUc, LobesThatSayTheyIgnoreUcSampleTheSameForAnyUc) {
+    Pcg32 rng(11);
+    const Frame frame = Frame::from_z(Vec3(0, 0, 1));
+    const Normal3 ng(0, 0, 1);
+    const TrowbridgeReitz rough{0.3f, 0.2f}, smooth{0, 0};
+    std::vector<Bsdf> ignoring = {
+        Bsdf(frame, ng, LambertLobe{SampledSpectrum(0.6f)}),
+        Bsdf(frame, ng, ConductorLobe{SampledSpectrum(0.2f), SampledSpectrum(3.9f), rough}),
+        Bsdf(frame, ng, ConductorLobe{SampledSpectrum(0.2f), SampledSpectrum(3.9f), smooth}),
+    };
+    for (const Bsdf& b : ignoring) {
+        EXPECT_FALSE(b.uses_uc());
+        for (int trial = 0; trial < 200; ++trial) {
+            Vec3 wo = sample_uniform_sphere(Point2(rng.next_float(), rng.next_float()));
+            Point2 u(rng.next_float(), rng.next_float());
+            auto a = b.sample(wo, 0.01f, u), c = b.sample(wo, 0.99f, u);
+            ASSERT_EQ(bool(a), bool(c)) << trial;
+            if (!a) continue;
+            EXPECT_EQ(a->wi, c->wi) << trial;
+            EXPECT_EQ(a->pdf_sa, c->pdf_sa) << trial;
+            for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_EQ(a->f[i], c->f[i]) << trial;
+        }
+    }
+    Bsdf glass(frame, ng, DielectricLobe{1.5f, smooth});
+    EXPECT_TRUE(glass.uses_uc());
+    // At normal incidence F = ((1.5 - 1) / (1.5 + 1))^2 = 0.04: uc below F reflects,
+    // above it transmits.
+    Vec3 wo(0, 0, 1);
+    auto r = glass.sample(wo, 0.01f, Point2(0.5f, 0.5f));
+    auto t = glass.sample(wo, 0.5f, Point2(0.5f, 0.5f));
+    ASSERT_TRUE(r && t);
+    EXPECT_GT(r->wi.z, 0);
+    EXPECT_LT(t->wi.z, 0);
+}
+
 }  // namespace
 }  // namespace sr

@@ -23,6 +23,7 @@ struct ConductorLobe {
     SampledSpectrum eta;  ///< real part of the relative IOR per wavelength
     SampledSpectrum k;    ///< extinction coefficient (imaginary part) per wavelength
     TrowbridgeReitz mf;   ///< roughness; alpha < 1e-3 in both axes means a mirror
+    static constexpr bool kIgnoresUc = true;  ///< sample() does not read uc
 
     /// BSDF value (1/sr, no cosine) for wo, wi on the same side; 0 for mirrors (deltas).
     SampledSpectrum f(Vec3 wo, Vec3 wi, TransportMode mode) const;

@@ -7,6 +7,7 @@ namespace sr {
 
 struct LambertLobe {
     SampledSpectrum r;  ///< directional-hemispherical reflectance, in [0, 1]
+    static constexpr bool kIgnoresUc = true;  ///< sample() does not read uc
 
     /// BSDF value (1/sr); zero unless wo and wi are on the same side.
     SampledSpectrum f(Vec3 wo, Vec3 wi, TransportMode) const {

@@ -62,6 +62,9 @@ class Sampler {
     virtual Float get_1d() = 0;
     /// Next two dimensions: a point in [0, 1)^2, stratified jointly where the sampler can.
     virtual Point2 get_2d() = 0;
+    /// Consumes the dimension get_1d() would, without computing it, for a sample the caller
+    /// has no use for (a single-lobe BSDF's lobe choice): later dimensions are unchanged.
+    virtual void skip_1d() = 0;
     /// Consumes the two dimensions get_2d() would, without computing them, for a sample the
     /// caller has no use for (a pinhole camera's lens sample): later dimensions are unchanged.
     virtual void skip_2d() = 0;
@@ -96,6 +99,7 @@ class IndependentSampler final : public Sampler {
         Float x = m_rng.next_float();
         return {x, m_rng.next_float()};
     }
+    void skip_1d() override { m_rng.next_u32(); }
     void skip_2d() override {
         m_rng.next_u32();
         m_rng.next_u32();
@@ -124,6 +128,7 @@ class StratifiedSampler final : public Sampler {
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override;
     Point2 get_2d() override;
+    void skip_1d() override { ++m_dimension; }
     void skip_2d() override { m_dimension += 2; }
     Point2 get_pixel_2d() override { return sample_2d(0); }
     Float get_pixel_1d() override { return sample_1d(2); }
@@ -190,6 +195,7 @@ class ZSobolSampler final : public Sampler {
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override;
     Point2 get_2d() override;
+    void skip_1d() override { ++m_dimension; }
     void skip_2d() override { m_dimension += 2; }
     Point2 get_pixel_2d() override { return sample_2d(0); }
     /// Sobol dimension 2 of get_pixel_2d()'s index, scrambled with dimension 2's key.
@@ -300,6 +306,7 @@ class PaddedSobolSampler final : public Sampler {
     void start_pixel_sample(Vec2i pixel, int sample_index, int dimension = 0) override;
     Float get_1d() override;
     Point2 get_2d() override;
+    void skip_1d() override { ++m_dimension; }
     void skip_2d() override { m_dimension += 2; }
     Point2 get_pixel_2d() override { return sample_2d(0); }
     /// Sobol dimension 2 of get_pixel_2d()'s shuffled index, scrambled with dimension 2's key.

@@ -144,6 +144,24 @@ TEST(Sampler, Skip2dConsumesWhatGet2dWould) {
     }
 }
 
+TEST(Sampler, Skip1dConsumesWhatGet1dWould) {
+    // Including across the last low-discrepancy dimension into the hashed ones
+    // (kPixelDimensions + 60 = 63 is the last low-discrepancy one).
+    for (const Config& c : all_configs()) {
+        auto s = c.make(16, 3);
+        for (int k : {0, 1, 14, 15, 40, 59, 60, 61}) {
+            s->start_pixel_sample({4, 9}, 7, k);
+            s->get_1d();
+            Float expected1 = s->get_1d();
+            Point2 expected2 = s->get_2d();
+            s->start_pixel_sample({4, 9}, 7, k);
+            s->skip_1d();
+            EXPECT_EQ(s->get_1d(), expected1) << c.label << " k " << k;
+            EXPECT_EQ(s->get_2d(), expected2) << c.label << " k " << k;
+        }
+    }
+}
+
 TEST(Sampler, ValuesInHalfOpenUnitIntervalWithMeanOneHalf) {
     for (const Config& c : all_configs()) {
         for (int spp : {1, 12, 64}) {

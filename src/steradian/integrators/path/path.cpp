@@ -71,7 +71,13 @@ public:
         if (m_use_nee && bsdf.has_non_specular() && !m_scene.light_sampler.empty())
             sample_light(hit, bsdf, m_prev_ctx);
 
-        Float uc = m_sampler.get_1d();
+        // The lobe-choice dimension is consumed either way; a single-lobe BSDF skips
+        // computing it (the same dimensions, and so the same image, for less work).
+        Float uc = 0;
+        if (bsdf.uses_uc())
+            uc = m_sampler.get_1d();
+        else
+            m_sampler.skip_1d();
         Point2 u = m_sampler.get_2d();
         auto bs = bsdf.sample(hit.wo, uc, u);
         if (!bs) return false;
