@@ -50,8 +50,15 @@ static_assert(Lobe<CoatedConductorLobe>);
 class Bsdf {
   public:
     Bsdf() = default;
-    Bsdf(const Frame& shading, Normal3 ng, LobeVariant lobe)
-        : m_frame(shading), m_ng(ng), m_lobe(std::move(lobe)) {}
+    /// The lobe is built in place in the variant (a LobeVariant argument would be built and
+    /// then copied whole).
+    template <typename L>
+        requires Lobe<std::decay_t<L>>
+    Bsdf(const Frame& shading, Normal3 ng, L&& lobe)
+        : m_frame(shading), m_ng(ng), m_lobe(std::in_place_type<std::decay_t<L>>, std::forward<L>(lobe)) {}
+    /// From a lobe already held in a variant.
+    Bsdf(const Frame& shading, Normal3 ng, const LobeVariant& lobe)
+        : m_frame(shading), m_ng(ng), m_lobe(lobe) {}
 
     uint8_t flags() const {
         return std::visit([](const auto& l) { return l.flags(); }, m_lobe);

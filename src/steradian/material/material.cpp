@@ -160,49 +160,53 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
         perturb_shading(common, ctx, *h_perturbed);
     }
     const SurfaceHit& h = h_perturbed ? *h_perturbed : h_in;
-    return std::visit(
-        [&](const auto& mat) -> std::optional<Bsdf> {
+    // One result, its lobe built in place (Bsdf's lobe constructor) and returned by name:
+    // returning Bsdf temporaries copied the 112-byte lobe variant twice and the 160-byte
+    // Bsdf once more on every vertex.
+    std::optional<Bsdf> out;
+    std::visit(
+        [&](const auto& mat) {
             using T = std::decay_t<decltype(mat)>;
             if constexpr (std::is_same_v<T, InterfaceMaterial>) {
-                return std::nullopt;
+                return;
             } else if constexpr (std::is_same_v<T, DiffuseMaterial>) {
                 SampledSpectrum r = clamped(evaluate(tex[mat.reflectance], h, lambda));
-                return Bsdf(shading_frame(h), h.ng, LambertLobe{r});
+                out.emplace(shading_frame(h), h.ng, LambertLobe{r});
             } else if constexpr (std::is_same_v<T, DielectricMaterial>) {
                 Float eta = hero_eta(mat.eta, mat.dispersive, lambda);
-                return Bsdf(shading_frame(h), h.ng,
+                out.emplace(shading_frame(h), h.ng,
                             DielectricLobe{eta, microfacets(mat.roughness, ctx, h)});
             } else if constexpr (std::is_same_v<T, ThinDielectricMaterial>) {
                 Float eta = hero_eta(mat.eta, mat.dispersive, lambda);
-                return Bsdf(shading_frame(h), h.ng, ThinDielectricLobe{eta});
+                out.emplace(shading_frame(h), h.ng, ThinDielectricLobe{eta});
             } else if constexpr (std::is_same_v<T, ConductorMaterial>) {
                 auto [eta, k] = conductor_ior(mat.reflectance, mat.eta, mat.k, ctx, h, lambda);
-                return Bsdf(shading_frame(h), h.ng,
+                out.emplace(shading_frame(h), h.ng,
                             ConductorLobe{eta, k, microfacets(mat.roughness, ctx, h)});
             } else if constexpr (std::is_same_v<T, PhongMaterial>) {
                 auto [kd, ks] = bounded_pair(evaluate(tex[mat.kd], h, lambda),
                                              evaluate(tex[mat.ks], h, lambda), mat.energy_scale);
                 Float n = std::max(Float(0), evaluate((*ctx.float_textures)[mat.exponent], h));
-                return Bsdf(shading_frame(h), h.ng, PhongLobe{kd, ks, n, mat.absorb});
+                out.emplace(shading_frame(h), h.ng, PhongLobe{kd, ks, n, mat.absorb});
             } else if constexpr (std::is_same_v<T, LafortuneMaterial>) {
                 LafortuneLobe l;
                 l.rho_d = clamped(evaluate(tex[mat.diffuse], h, lambda));
                 l.lobes = mat.lobes;
                 l.count = mat.count;
-                return Bsdf(shading_frame(h), h.ng, l);
+                out.emplace(shading_frame(h), h.ng, l);
             } else if constexpr (std::is_same_v<T, WardMaterial>) {
                 auto [kd, ks] = bounded_pair(evaluate(tex[mat.kd], h, lambda),
                                              evaluate(tex[mat.ks], h, lambda), mat.energy_scale);
                 const auto& ftex = *ctx.float_textures;
                 Float ax = std::max(WardMaterial::kMinAlpha, evaluate(ftex[mat.alpha_x], h));
                 Float ay = std::max(WardMaterial::kMinAlpha, evaluate(ftex[mat.alpha_y], h));
-                return Bsdf(shading_frame(h), h.ng, WardLobe{kd, ks, ax, ay});
+                out.emplace(shading_frame(h), h.ng, WardLobe{kd, ks, ax, ay});
             } else if constexpr (std::is_same_v<T, CoatedDiffuseMaterial>) {
                 Float eta = hero_eta(mat.eta, mat.dispersive, lambda);
                 DielectricLobe top{eta, microfacets(mat.roughness, ctx, h)};
                 LambertLobe base{clamped(evaluate(tex[mat.reflectance], h, lambda))};
-                return Bsdf(shading_frame(h), h.ng,
-                            layered_lobe(top, base, mat.layer, ctx, h, lambda));
+                out.emplace(shading_frame(h), h.ng,
+                        layered_lobe(top, base, mat.layer, ctx, h, lambda));
             } else if constexpr (std::is_same_v<T, CoatedConductorMaterial>) {
                 Float eta = hero_eta(mat.interface_eta, mat.dispersive, lambda);
                 DielectricLobe top{eta, microfacets(mat.interface_roughness, ctx, h)};
@@ -210,17 +214,18 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
                                               ctx, h, lambda);
                 // The base sits under the coating: its IOR relative to the coating's.
                 ConductorLobe base{ce / eta, ck / eta, microfacets(mat.conductor_roughness, ctx, h)};
-                return Bsdf(shading_frame(h), h.ng,
-                            layered_lobe(top, base, mat.layer, ctx, h, lambda));
+                out.emplace(shading_frame(h), h.ng,
+                        layered_lobe(top, base, mat.layer, ctx, h, lambda));
             } else if constexpr (std::is_same_v<T, MixMaterial>) {
-                return make_bsdf((*ctx.materials)[mix_choice(mat, ctx, h)], ctx, h, lambda);
+                out = make_bsdf((*ctx.materials)[mix_choice(mat, ctx, h)], ctx, h, lambda);
             } else {
                 SampledSpectrum r = clamped(evaluate(tex[mat.reflectance], h, lambda) * mat.scale);
                 SampledSpectrum t = clamped(evaluate(tex[mat.transmittance], h, lambda) * mat.scale);
-                return Bsdf(shading_frame(h), h.ng, DiffuseTransmissionLobe{r, t});
+                out.emplace(shading_frame(h), h.ng, DiffuseTransmissionLobe{r, t});
             }
         },
         m);
+    return out;
 }
 
 }  // namespace sr
