@@ -148,18 +148,12 @@ void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, Surfac
     h.ns = ns;
 }
 
-std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, const SurfaceHit& h_in,
-                              SampledWavelengths& lambda) {
+namespace {
+
+/// The BSDF of material m at the (possibly perturbed) hit h.
+std::optional<Bsdf> bsdf_at(const Material& m, const MaterialContext& ctx, const SurfaceHit& h,
+                            SampledWavelengths& lambda) {
     const auto& tex = *ctx.spectrum_textures;
-    const MaterialCommon& common =
-        std::visit([](const auto& x) -> const MaterialCommon& { return x; }, m);
-    // Only a perturbed hit is copied (an unused SurfaceHit local cost a 136-byte zero fill).
-    std::optional<SurfaceHit> h_perturbed;
-    if (common.normal_map || common.displacement >= 0) {
-        h_perturbed.emplace(h_in);
-        perturb_shading(common, ctx, *h_perturbed);
-    }
-    const SurfaceHit& h = h_perturbed ? *h_perturbed : h_in;
     // One result, its lobe built in place (Bsdf's lobe constructor) and returned by name:
     // returning Bsdf temporaries copied the 112-byte lobe variant twice and the 160-byte
     // Bsdf once more on every vertex.
@@ -226,6 +220,22 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
         },
         m);
     return out;
+}
+
+}  // namespace
+
+std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, const SurfaceHit& h,
+                              SampledWavelengths& lambda) {
+    const MaterialCommon& common =
+        std::visit([](const auto& x) -> const MaterialCommon& { return x; }, m);
+    // Only a perturbed hit is copied, in its own branch: a std::optional<SurfaceHit> for it
+    // was zero-filled (140 bytes) on every call.
+    if (common.normal_map || common.displacement >= 0) [[unlikely]] {
+        SurfaceHit perturbed = h;
+        perturb_shading(common, ctx, perturbed);
+        return bsdf_at(m, ctx, perturbed, lambda);
+    }
+    return bsdf_at(m, ctx, h, lambda);
 }
 
 }  // namespace sr
