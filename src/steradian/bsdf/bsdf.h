@@ -55,7 +55,9 @@ class Bsdf {
     template <typename L>
         requires Lobe<std::decay_t<L>>
     Bsdf(const Frame& shading, Normal3 ng, L&& lobe)
-        : m_frame(shading), m_ng(ng), m_lobe(std::in_place_type<std::decay_t<L>>, std::forward<L>(lobe)) {}
+        : m_frame(shading),
+          m_ng(ng),
+          m_lobe(std::in_place_type<std::decay_t<L>>, std::forward<L>(lobe)) {}
     /// From a lobe already held in a variant.
     Bsdf(const Frame& shading, Normal3 ng, const LobeVariant& lobe)
         : m_frame(shading), m_ng(ng), m_lobe(lobe) {}

@@ -200,7 +200,7 @@ std::optional<Bsdf> bsdf_at(const Material& m, const MaterialContext& ctx, const
                 DielectricLobe top{eta, microfacets(mat.roughness, ctx, h)};
                 LambertLobe base{clamped(evaluate(tex[mat.reflectance], h, lambda))};
                 out.emplace(shading_frame(h), h.ng,
-                        layered_lobe(top, base, mat.layer, ctx, h, lambda));
+                            layered_lobe(top, base, mat.layer, ctx, h, lambda));
             } else if constexpr (std::is_same_v<T, CoatedConductorMaterial>) {
                 Float eta = hero_eta(mat.interface_eta, mat.dispersive, lambda);
                 DielectricLobe top{eta, microfacets(mat.interface_roughness, ctx, h)};
@@ -209,7 +209,7 @@ std::optional<Bsdf> bsdf_at(const Material& m, const MaterialContext& ctx, const
                 // The base sits under the coating: its IOR relative to the coating's.
                 ConductorLobe base{ce / eta, ck / eta, microfacets(mat.conductor_roughness, ctx, h)};
                 out.emplace(shading_frame(h), h.ng,
-                        layered_lobe(top, base, mat.layer, ctx, h, lambda));
+                            layered_lobe(top, base, mat.layer, ctx, h, lambda));
             } else if constexpr (std::is_same_v<T, MixMaterial>) {
                 out = make_bsdf((*ctx.materials)[mix_choice(mat, ctx, h)], ctx, h, lambda);
             } else {
