@@ -1,8 +1,9 @@
 // Our render of the Cornell box against pbrt-v4's own renders of the same file
 // (tests/data/reference/cornell-box: pbrt-v4 commit 5f7a6068 at 1024 and 64 spp).
 // Pass criteria from the foundation issue: the mean of every wall and block region within
-// 1 % of pbrt-v4's 1024-spp image, and the RMSE of our 64-spp image against it no worse
-// than pbrt-v4's own 64-spp image.
+// 1 % of pbrt-v4's 1024-spp image (checked at 256 spp, where the region means' own noise is
+// well below 1 %), and the RMSE of our 64-spp image against it no worse than pbrt-v4's own
+// 64-spp image.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -68,17 +69,31 @@ TEST(CornellBox, MatchesPbrtV4RegionByRegionAndInRmse) {
     Image ours = film.rgb_image();
     ASSERT_EQ(ours.width, ref.width);
     ASSERT_EQ(ours.height, ref.height);
+    // The region means are compared at 256 spp: the 64-spp image averaged with an
+    // independent 192-spp one (another seed), weighted by sample count. At 64 spp the darkest
+    // region's mean is itself noisy at the 1 % level: pbrt-v4's own 64-spp image is 0.95 %
+    // above its 1024-spp one in the short block's green channel, and our 64-spp images with
+    // seeds 0 and 1 differ by 1 % there.
+    Film film_more(s.film);
+    RenderOptions ro_more;
+    ro_more.spp = 192;
+    ro_more.seed = 1;
+    EXPECT_EQ(render(s, film_more, ro_more).nonfinite, 0u);
+    Image more = film_more.rgb_image();
+    Image mean256 = ours;
+    for (size_t i = 0; i < mean256.data.size(); ++i)
+        mean256.data[i] = 0.25f * ours.data[i] + 0.75f * more.data[i];
     // Luminance, and every RGB channel that carries at least 10 % of the region's largest
     // channel, within 1 %. (A channel far below that, such as blue on the red wall at 2e-3
-    // of red, is a small difference of large XYZ terms; at 64 spp its relative noise says
-    // nothing about the radiance. At 512 spp ours matches it within 0.2 %.)
+    // of red, is a small difference of large XYZ terms; its relative noise says nothing
+    // about the radiance. At 512 spp ours matches it within 0.2 %.)
     for (const Region& r : kRegions) {
-        double a = region_luminance(ours, r), b = region_luminance(ref, r);
+        double a = region_luminance(mean256, r), b = region_luminance(ref, r);
         std::printf("%-12s luminance ours/pbrt-v4 %.4f\n", r.name, a / b);
         EXPECT_NEAR(a / b, 1.0, 0.01) << r.name << ": ours " << a << " pbrt-v4 " << b;
         double max_c = std::max({region_mean(ref, r, 0), region_mean(ref, r, 1), region_mean(ref, r, 2)});
         for (int c = 0; c < 3; ++c) {
-            double ac = region_mean(ours, r, c), bc = region_mean(ref, r, c);
+            double ac = region_mean(mean256, r, c), bc = region_mean(ref, r, c);
             if (bc < 0.1 * max_c) continue;
             EXPECT_NEAR(ac / bc, 1.0, 0.01) << r.name << " channel " << c;
         }

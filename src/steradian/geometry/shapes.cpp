@@ -215,6 +215,16 @@ bool use_spherical(Float omega) {
            omega <= TriangleMesh::kMaxSphericalSampleArea;
 }
 
+/// Whether the triangle may be large enough, seen from ref, for spherical sampling to pay:
+/// its solid angle estimated as area |cos| / d^2 at the centroid is at least
+/// kSphericalSampleEstimate. One square root, no division.
+bool large_from(const Triangle& t, Point3 ref) {
+    Vec3 v = (t.p0 + t.p1 + t.p2) * (Float(1) / 3) - ref;
+    Float d2 = length_squared(v);
+    return std::abs(dot(t.n, v)) >=
+           TriangleMesh::kSphericalSampleEstimate * t.inv_area * d2 * std::sqrt(d2);
+}
+
 }  // namespace
 
 Float Triangle::solid_angle(Point3 ref) const {
@@ -222,6 +232,12 @@ Float Triangle::solid_angle(Point3 ref) const {
 }
 
 ShapeSample Triangle::sample_from(Point3 ref, Point2 u) const {
+    if (!large_from(*this, ref)) {
+        std::array<Float, 3> b = sample_uniform_triangle(u);
+        ShapeSample s = point_at(b[0], b[1], b[2]);
+        s.pdf = area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
+        return s;
+    }
     SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
     const bool spherical = use_spherical(st.area);
     std::array<Float, 3> b;
@@ -261,6 +277,7 @@ bool Triangle::behind(Point3 ref) const {
 }
 
 Float Triangle::pdf_from(Point3 ref, Point3 p_light, Normal3 n_light) const {
+    if (!large_from(*this, ref)) return area_to_solid_angle_pdf(inv_area, ref, p_light, n_light);
     SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
     if (!use_spherical(st.area)) return area_to_solid_angle_pdf(inv_area, ref, p_light, n_light);
     return 1 / st.area;
