@@ -55,13 +55,16 @@ Film::Film(const FilmParams& p) : m_p(p), m_pixels(size_t(p.width()) * p.height(
 std::array<double, 3> Film::to_sensor(const SampledSpectrum& L,
                                       const SampledWavelengths& lambda) const {
     double xyz[3] = {0, 0, 0};
+    // Without branches: a wavelength outside the table or of zero pdf adds zero (whether L
+    // is zero differs from sample to sample, and skipping was a mispredicted branch about
+    // once per camera path).
     for (int i = 0; i < kSpectrumSamples; ++i) {
-        if (lambda.pdf[i] == 0 || L[i] == 0) continue;
         Float x = lambda.lambda[i] - kLambdaMin;
-        if (!(x >= 0 && x <= kLambdaMax - kLambdaMin)) continue;
+        const bool use = lambda.pdf[i] != 0 && x >= 0 && x <= kLambdaMax - kLambdaMin;
+        x = use ? x : 0;
         int k = int(x);
         Float t = x - Float(k);
-        double l = double(L[i]) / lambda.pdf[i];
+        double l = use ? double(L[i]) / lambda.pdf[i] : 0.0;
         for (int c = 0; c < 3; ++c) xyz[c] += double(lerp(t, m_cmf[k][c], m_cmf[k + 1][c])) * l;
     }
     double k = double(m_p.imaging_ratio) / kSpectrumSamples;

@@ -32,10 +32,11 @@ Filter::Filter(FilterType type, Vec2 radius, Float sigma)
         m_integral[a] = m_cdf[a][n];
         for (auto& c : m_cdf[a]) c /= m_integral[a];
         // Guide table (Chen & Wu 1990's "cutpoint" method): O(1) expected inversion.
-        m_guide[a].resize(n);
+        const int m = kGuidePerCell * n;
+        m_guide[a].resize(m);
         int cell = 0;
-        for (int j = 0; j < n; ++j) {
-            Float uj = Float(j) / n;
+        for (int j = 0; j < m; ++j) {
+            Float uj = Float(j) / m;
             while (cell < n - 1 && m_cdf[a][cell + 1] <= uj) ++cell;
             m_guide[a][j] = cell;
         }
@@ -75,7 +76,8 @@ Float Filter::sample_1d(Float u, int a, Float& pdf) const {
         case FilterType::Gaussian: {
             const auto& cdf = m_cdf[a];
             int n = int(m_func[a].size());
-            int i = m_guide[a][std::min(n - 1, int(u * n))];
+            const int m = int(m_guide[a].size());
+            int i = m_guide[a][std::min(m - 1, int(u * m))];
             while (i < n - 1 && cdf[i + 1] <= u) ++i;
             Float du = u - cdf[i];
             Float width = cdf[i + 1] - cdf[i];

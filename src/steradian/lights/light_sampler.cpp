@@ -15,12 +15,4 @@ void LightSampler::build(const std::vector<Light>& lights, bool by_power) {
     m_alias = AliasTable(w);
 }
 
-int LightSampler::sample(Float u, Float& pmf) const {
-    if (empty()) {
-        pmf = 0;
-        return -1;
-    }
-    return m_alias.sample(u, &pmf, nullptr);
-}
-
 }  // namespace sr

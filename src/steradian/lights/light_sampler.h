@@ -16,7 +16,13 @@ public:
     void build(const std::vector<Light>& lights, bool by_power);
     bool empty() const { return m_alias.size() == 0; }
     /// Index of the chosen light (or -1 if there are none) and its probability.
-    int sample(Float u, Float& pmf) const;
+    int sample(Float u, Float& pmf) const {
+        if (empty()) {
+            pmf = 0;
+            return -1;
+        }
+        return m_alias.sample(u, pmf);
+    }
     Float pmf(int light) const { return m_alias.pmf(light); }
 
 private:

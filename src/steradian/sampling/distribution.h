@@ -71,6 +71,18 @@ class AliasTable {
     /// Index i with probability pmf(i) for u in [0, 1). u_remapped: a fresh uniform variate in
     /// [0, 1) recovered from the unused part of u (with about 24 - log2(n) bits of precision).
     int sample(Float u, Float* pmf = nullptr, Float* u_remapped = nullptr) const;
+    /// As sample(u, &pmf) (the same index), inline and without the remapped variate: one
+    /// multiply, one load and a select (light selection at every path vertex).
+    int sample(Float u, Float& pmf) const {
+        std::size_t n = m_bins.size();
+        double un = double(u) * double(n);
+        auto offset = std::min(std::size_t(un), n - 1);
+        double up = std::min(un - double(offset), double(kOneMinusEpsilon));
+        const Bin& bin = m_bins[offset];
+        int result = up < double(bin.q) ? int(offset) : bin.alias;
+        pmf = m_bins[std::size_t(result)].p;
+        return result;
+    }
     /// Probability of index i (normalized weight).
     Float pmf(int i) const { return m_bins[std::size_t(i)].p; }
 

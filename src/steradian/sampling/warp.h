@@ -33,14 +33,15 @@ inline Float azimuth_to_unit(Float x, Float y) {
 inline Point2 sample_uniform_disk_concentric(Point2 u) {
     Float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
     if (ox == 0 && oy == 0) return {0, 0};
-    // The angle is theta = phi (|ox| > |oy|) or pi/2 - phi, with |phi| <= pi/4.
+    // The angle is theta = phi (|ox| > |oy|: radius ox) or pi/2 - phi (radius oy), with
+    // |phi| <= pi/4. Written with selects, not branches: which case applies is a coin toss
+    // for every sample, and a mispredicted branch cost more than both selects.
+    const bool x_major = std::abs(ox) > std::abs(oy);
+    Float r = x_major ? ox : oy, q = x_major ? oy : ox;
     Float s, c;
-    if (std::abs(ox) > std::abs(oy)) {
-        sincos_pi4(kPiOver4 * (oy / ox), s, c);
-        return {ox * c, ox * s};
-    }
-    sincos_pi4(kPiOver4 * (ox / oy), s, c);
-    return {oy * s, oy * c};
+    sincos_pi4(kPiOver4 * (q / r), s, c);
+    Float rc = r * c, rs = r * s;
+    return {x_major ? rc : rs, x_major ? rs : rc};
 }
 
 /// Inverse of sample_uniform_disk_concentric: a point of the unit disk back to [0,1)^2.
@@ -166,14 +167,11 @@ inline Point2 invert_uniform_cone(Vec3 w, Float cos_theta_max) {
 /// max(u.x, u.y). The Jacobian is the constant 1/2: the density is 2 per unit barycentric area,
 /// i.e. 1/A per unit area of a triangle of area A.
 inline std::array<Float, 3> sample_uniform_triangle(Point2 u) {
-    Float b0, b1;
-    if (u.y > u.x) {
-        b0 = u.x / 2;
-        b1 = u.y - b0;
-    } else {
-        b1 = u.y / 2;
-        b0 = u.x - b1;
-    }
+    // u.y > u.x: b0 = u.x / 2, b1 = u.y - b0; else b1 = u.y / 2, b0 = u.x - b1. Both are
+    // b = u - min(u.x, u.y) / 2 (exactly: v - v / 2 = v / 2 in floating point), which needs no
+    // branch on a case that is a coin toss per sample.
+    Float half = std::min(u.x, u.y) / 2;
+    Float b0 = u.x - half, b1 = u.y - half;
     return {b0, b1, 1 - b0 - b1};
 }
 

@@ -90,7 +90,7 @@ public:
         // Russian roulette (unbiased: survivors are reweighted by 1 / (1 - q)).
         SampledSpectrum rr_beta = m_beta * m_eta_scale;
         Float m = rr_beta.max_value();
-        if (m < 1 && m_depth > 1) {
+        if (m_depth > 1 && m < 1) {
             Float q = std::max(Float(0), 1 - m);
             if (m_sampler.get_1d() < q) return false;
             m_beta /= 1 - q;
