@@ -153,22 +153,16 @@ AliasTable::AliasTable(std::span<const Float> weights) : m_bins(weights.size()) 
 }
 
 int AliasTable::sample(Float u, Float* pmf_out, Float* u_remapped) const {
-    std::size_t n = m_bins.size();
-    double un = double(u) * double(n);
-    auto offset = std::min(std::size_t(un), n - 1);
-    double up = std::min(un - double(offset), double(kOneMinusEpsilon));
-    const Bin& bin = m_bins[offset];
-    int result;
-    double remapped;
-    if (up < double(bin.q)) {
-        result = int(offset);
-        remapped = up / double(bin.q);
-    } else {
-        result = bin.alias;
-        remapped = (up - double(bin.q)) / (1 - double(bin.q));
-    }
+    double up;
+    std::size_t offset;
+    int result = choose(u, up, offset);
     if (pmf_out) *pmf_out = m_bins[std::size_t(result)].p;
-    if (u_remapped) *u_remapped = std::min(Float(remapped), kOneMinusEpsilon);
+    if (u_remapped) {
+        // Kept the bin: up was in [0, q); took the alias: up was in [q, 1).
+        double q = double(m_bins[offset].q);
+        double remapped = up < q ? up / q : (up - q) / (1 - q);
+        *u_remapped = std::min(Float(remapped), kOneMinusEpsilon);
+    }
     return result;
 }
 

@@ -74,12 +74,9 @@ class AliasTable {
     /// As sample(u, &pmf) (the same index), inline and without the remapped variate: one
     /// multiply, one load and a select (light selection at every path vertex).
     int sample(Float u, Float& pmf) const {
-        std::size_t n = m_bins.size();
-        double un = double(u) * double(n);
-        auto offset = std::min(std::size_t(un), n - 1);
-        double up = std::min(un - double(offset), double(kOneMinusEpsilon));
-        const Bin& bin = m_bins[offset];
-        int result = up < double(bin.q) ? int(offset) : bin.alias;
+        double up;
+        std::size_t offset;
+        int result = choose(u, up, offset);
         pmf = m_bins[std::size_t(result)].p;
         return result;
     }
@@ -93,6 +90,17 @@ class AliasTable {
         Float p = 0;    // normalized weight of this bin
     };
     std::vector<Bin> m_bins;
+
+    /// The index for u. offset: the bin u falls in, whose q decides between it and its alias
+    /// (by a select, not a branch); up: u's position in [0, 1) inside that bin.
+    int choose(Float u, double& up, std::size_t& offset) const {
+        std::size_t n = m_bins.size();
+        double un = double(u) * double(n);
+        offset = std::min(std::size_t(un), n - 1);
+        up = std::min(un - double(offset), double(kOneMinusEpsilon));
+        const Bin& bin = m_bins[offset];
+        return up < double(bin.q) ? int(offset) : bin.alias;
+    }
 };
 
 /// Piecewise-constant density on the rectangle [lo, hi] from an nu x nv grid of values
