@@ -1,6 +1,7 @@
 #include "steradian/geometry/shapes.h"
 
 #include <cmath>
+#include <optional>
 
 #include "steradian/sampling/warp.h"
 
@@ -215,14 +216,22 @@ bool use_spherical(Float omega) {
            omega <= TriangleMesh::kMaxSphericalSampleArea;
 }
 
-/// Whether the triangle may be large enough, seen from ref, for spherical sampling to pay:
-/// its solid angle estimated as area |cos| / d^2 at the centroid is at least
-/// kSphericalSampleEstimate. One square root, no division.
-bool large_from(const Triangle& t, Point3 ref) {
+/// The spherical triangle t subtends at ref when t is to be sampled uniformly in solid angle
+/// from there, else none (sample by area). Spherical sampling pays only where t looks large:
+/// its solid angle estimated as area |cos| / d^2 at the centroid (one square root, no
+/// division) must reach kSphericalSampleEstimate before the exact one is computed, which must
+/// lie in [kMinSphericalSampleArea, kMaxSphericalSampleArea]. sample_from and pdf_from both
+/// decide here, so their densities agree.
+std::optional<SphericalTriangle> spherical_from(const Triangle& t, Point3 ref) {
     Vec3 v = (t.p0 + t.p1 + t.p2) * (Float(1) / 3) - ref;
     Float d2 = length_squared(v);
-    return std::abs(dot(t.n, v)) >=
-           TriangleMesh::kSphericalSampleEstimate * t.inv_area * d2 * std::sqrt(d2);
+    if (std::abs(dot(t.n, v)) <
+        TriangleMesh::kSphericalSampleEstimate * t.inv_area * d2 * std::sqrt(d2))
+        return std::nullopt;
+    std::optional<SphericalTriangle> st(std::in_place, normalize(t.p0 - ref), normalize(t.p1 - ref),
+                                        normalize(t.p2 - ref));
+    if (!use_spherical(st->area)) st.reset();
+    return st;
 }
 
 }  // namespace
@@ -232,19 +241,12 @@ Float Triangle::solid_angle(Point3 ref) const {
 }
 
 ShapeSample Triangle::sample_from(Point3 ref, Point2 u) const {
-    if (!large_from(*this, ref)) {
-        std::array<Float, 3> b = sample_uniform_triangle(u);
-        ShapeSample s = point_at(b[0], b[1], b[2]);
-        s.pdf = area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
-        return s;
-    }
-    SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
-    const bool spherical = use_spherical(st.area);
+    const std::optional<SphericalTriangle> st = spherical_from(*this, ref);
     std::array<Float, 3> b;
-    if (!spherical) {
+    if (!st) {
         b = sample_uniform_triangle(u);
     } else {
-        Vec3 w = st.sample(u);
+        Vec3 w = st->sample(u);
         // Intersect ref + t w with the triangle's plane for barycentrics (Moller-Trumbore).
         Vec3 e1 = p1 - p0, e2 = p2 - p0;
         Vec3 s1 = cross(w, e2);
@@ -266,8 +268,8 @@ ShapeSample Triangle::sample_from(Point3 ref, Point2 u) const {
     // caller's object: a copy out of a local, written field by field and read back in
     // 16-byte pieces, stalled store-to-load forwarding on every light sample.
     ShapeSample s = point_at(b[0], b[1], b[2]);
-    s.pdf = spherical ? 1 / st.area  // uniform in solid angle
-                      : area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
+    s.pdf = st ? 1 / st->area  // uniform in solid angle
+               : area_to_solid_angle_pdf(s.pdf, ref, s.p, s.n);
     return s;
 }
 
@@ -277,10 +279,8 @@ bool Triangle::behind(Point3 ref) const {
 }
 
 Float Triangle::pdf_from(Point3 ref, Point3 p_light, Normal3 n_light) const {
-    if (!large_from(*this, ref)) return area_to_solid_angle_pdf(inv_area, ref, p_light, n_light);
-    SphericalTriangle st(normalize(p0 - ref), normalize(p1 - ref), normalize(p2 - ref));
-    if (!use_spherical(st.area)) return area_to_solid_angle_pdf(inv_area, ref, p_light, n_light);
-    return 1 / st.area;
+    const std::optional<SphericalTriangle> st = spherical_from(*this, ref);
+    return st ? 1 / st->area : area_to_solid_angle_pdf(inv_area, ref, p_light, n_light);
 }
 
 Float TriangleMesh::solid_angle(size_t i, Point3 ref) const { return triangle(i).solid_angle(ref); }
