@@ -172,7 +172,7 @@ struct Accel::Impl {
         // Every field of h is written, whatever it held (the path integrator reuses one
         // record per path): the shapes' fills write all but the normal derivatives, which
         // only curved shading normals have.
-        h.dndu = h.dndv = Vec3(0, 0, 0);
+        h.dndu = h.dndv = h.ss = Vec3(0, 0, 0);
         h.t = rh.ray.tfar;
         h.shape = shape;
         h.prim = rh.hit.primID;
@@ -220,6 +220,7 @@ struct Accel::Impl {
             h.ng = normalize(w.normal(h.ng));
             h.ns = normalize(w.normal(h.ns));
             h.dpdu = w.vector(h.dpdu);
+            h.ss = Vec3(0, 0, 0);  // recomputed from the transformed dpdu and ns
             h.dpdv = w.vector(h.dpdv);
             h.dndu = w.normal(h.dndu);
             h.dndv = w.normal(h.dndv);

@@ -23,6 +23,10 @@ struct SurfaceHit {
     Normal3 ng;         ///< geometric normal, unit, oriented by the shape's orientation rules
     Normal3 ns;         ///< shading normal, unit, in the hemisphere of ng
     Vec3 dpdu;          ///< surface tangent (not normalised), for anisotropic frames
+    /// Unit shading tangent: dpdu made perpendicular to ns and normalised, when the shape
+    /// knows it in advance (flat triangles); (0, 0, 0) when it is to be computed from dpdu
+    /// and ns. Whoever changes ns or dpdu of a hit must reset it to zero.
+    Vec3 ss{0, 0, 0};
     Vec3 dpdv{0, 0, 0}; ///< dp/dv of the (u, v) parameterisation (bump mapping)
     Vec3 dndu{0, 0, 0}, dndv{0, 0, 0};  ///< derivatives of the (unnormalised) shading normal
     Point2 uv;          ///< surface parameterisation

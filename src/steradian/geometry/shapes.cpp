@@ -42,27 +42,18 @@ Float TriangleMesh::triangle_area(size_t i) const {
     return Float(0.5) * length(cross(P[v[1]] - P[v[0]], P[v[2]] - P[v[0]]));
 }
 
-void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
-    const auto& P = *p;
-    const uint32_t* v = &(*indices)[3 * i];
+namespace {
+
+/// dp/du and dp/dv of a triangle (constant over it), and the uv of barycentrics (b0, b1, b2).
+/// Without uv, pbrt-v4's default parameterisation (0,0), (1,0), (1,1) gives uv = (b1 + b2, b2)
+/// and dpdu = p1 - p0, dpdv = p2 - p1.
+void triangle_tangents(const TriangleMesh& m, const uint32_t* v, Float b0, Float b1, Float b2,
+                       Point2& uv_out, Vec3& dpdu, Vec3& dpdv) {
+    const auto& P = *m.p;
     Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
-    Float b0 = 1 - b1 - b2;
-    h.p = p0 * b0 + p1 * b1 + p2 * b2;
-    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
-                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
-                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
-    h.p_error = abs_sum * gamma_bound(7);
-    Vec3 e1 = p1 - p0, e2 = p2 - p0;
-    Vec3 ng = cross(e1, e2);
-    Float len = length(ng);
-    ng = len > 0 ? ng / len : Vec3(0, 0, 1);
-    if (flip_normals) ng = -ng;
-    // uv and tangent. Without uv, pbrt-v4's default parameterisation (0,0), (1,0), (1,1)
-    // gives uv = (b1 + b2, b2) and dpdu = p1 - p0.
-    Vec3 dpdu, dpdv;
-    if (uv && !uv->empty()) {
-        Point2 uv0 = (*uv)[v[0]], uv1 = (*uv)[v[1]], uv2 = (*uv)[v[2]];
-        h.uv = Point2(uv0.x * b0 + uv1.x * b1 + uv2.x * b2, uv0.y * b0 + uv1.y * b1 + uv2.y * b2);
+    if (m.uv && !m.uv->empty()) {
+        Point2 uv0 = (*m.uv)[v[0]], uv1 = (*m.uv)[v[1]], uv2 = (*m.uv)[v[2]];
+        uv_out = Point2(uv0.x * b0 + uv1.x * b1 + uv2.x * b2, uv0.y * b0 + uv1.y * b1 + uv2.y * b2);
         Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
         Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
         Float det = duv02.x * duv12.y - duv02.y * duv12.x;
@@ -73,19 +64,80 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
             dpdu = dpdv = Vec3(0, 0, 0);
         }
     } else {
-        // uv = (b1 + b2, b2) over p0, p1, p2: p = p0 + u (p1 - p0) + v (p2 - p1).
-        h.uv = Point2(b1 + b2, b2);
-        dpdu = e1;
+        uv_out = Point2(b1 + b2, b2);
+        dpdu = p1 - p0;
         dpdv = p2 - p1;
     }
-    if (length_squared(cross(dpdu, ng)) == 0 || length_squared(cross(dpdv, ng)) == 0) {
-        Vec3 s, t;
-        coordinate_system(ng, s, t);
-        dpdu = s;
-        dpdv = t;
+}
+
+/// Unit geometric normal of a triangle, oriented by the mesh's orientation flag.
+Normal3 triangle_normal(Point3 p0, Point3 p1, Point3 p2, bool flip) {
+    Vec3 ng = cross(p1 - p0, p2 - p0);
+    Float len = length(ng);
+    ng = len > 0 ? ng / len : Vec3(0, 0, 1);
+    return flip ? -ng : ng;
+}
+
+/// Whether dp/du or dp/dv is parallel to the normal (or zero), so that the hit's tangents
+/// must come from coordinate_system().
+bool degenerate_tangents(Vec3 dpdu, Vec3 dpdv, Normal3 ng) {
+    return length_squared(cross(dpdu, ng)) == 0 || length_squared(cross(dpdv, ng)) == 0;
+}
+
+}  // namespace
+
+void TriangleMesh::cache_flat_frames() {
+    if (n && !n->empty()) return;
+    const size_t count = num_triangles();
+    auto frames = std::make_shared<std::vector<FlatFrame>>(count);
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t* v = &(*indices)[3 * i];
+        const auto& P = *p;
+        FlatFrame& f = (*frames)[i];
+        f.n = triangle_normal(P[v[0]], P[v[1]], P[v[2]], flip_normals);
+        Point2 uv_unused;
+        Vec3 dpdu, dpdv;
+        triangle_tangents(*this, v, 1, 0, 0, uv_unused, dpdu, dpdv);
+        f.s = Vec3(0, 0, 0);
+        if (degenerate_tangents(dpdu, dpdv, f.n)) continue;
+        // As the material's shading frame: dpdu made perpendicular to the normal.
+        Vec3 t = dpdu - f.n * dot(f.n, dpdu);
+        Float l2 = length_squared(t);
+        if (l2 > 1e-20f) f.s = t / std::sqrt(l2);
     }
+    flat_frames = std::move(frames);
+}
+
+void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
+    const auto& P = *p;
+    const uint32_t* v = &(*indices)[3 * i];
+    Point3 p0 = P[v[0]], p1 = P[v[1]], p2 = P[v[2]];
+    Float b0 = 1 - b1 - b2;
+    h.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 abs_sum{std::abs(b0 * p0.x) + std::abs(b1 * p1.x) + std::abs(b2 * p2.x),
+                 std::abs(b0 * p0.y) + std::abs(b1 * p1.y) + std::abs(b2 * p2.y),
+                 std::abs(b0 * p0.z) + std::abs(b1 * p1.z) + std::abs(b2 * p2.z)};
+    h.p_error = abs_sum * gamma_bound(7);
+    Vec3 dpdu, dpdv;
+    triangle_tangents(*this, v, b0, b1, b2, h.uv, dpdu, dpdv);
     h.dpdu = dpdu;
     h.dpdv = dpdv;
+    if (flat_frames) {
+        const FlatFrame& f = (*flat_frames)[i];
+        if (f.s.x != 0 || f.s.y != 0 || f.s.z != 0) {
+            h.ng = h.ns = f.n;
+            h.ss = f.s;
+            return;
+        }
+    }
+    h.ss = Vec3(0, 0, 0);
+    Normal3 ng = triangle_normal(p0, p1, p2, flip_normals);
+    if (degenerate_tangents(dpdu, dpdv, ng)) {
+        Vec3 s, t;
+        coordinate_system(ng, s, t);
+        h.dpdu = s;
+        h.dpdv = t;
+    }
     if (n && !n->empty()) {
         const Normal3 n0 = (*n)[v[0]], n1 = (*n)[v[1]], n2 = (*n)[v[2]];
         // dn/du, dn/dv of the interpolated normal, by the same linear solve as dp/du, dp/dv.

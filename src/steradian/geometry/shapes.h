@@ -53,6 +53,19 @@ struct TriangleMesh {
     std::shared_ptr<std::vector<Point2>> uv;   ///< per-vertex uv or empty
     std::shared_ptr<std::vector<uint32_t>> indices;  ///< 3 per triangle
     bool flip_normals = false;  ///< reverse_orientation XOR transform swaps handedness
+    /// A flat triangle's (no vertex normals) geometric normal and unit shading tangent,
+    /// which fill_hit would otherwise compute on every hit (a cross product, two square
+    /// roots and two divisions on the path's critical chain). s = (0, 0, 0) marks a
+    /// triangle whose tangent needs fill_hit's fallback (degenerate dp/du or dp/dv).
+    struct FlatFrame {
+        Normal3 n;
+        Vec3 s;
+    };
+    /// One per triangle, or empty (meshes with vertex normals); see cache_flat_frames().
+    std::shared_ptr<std::vector<FlatFrame>> flat_frames;
+    /// Fills flat_frames when the mesh has no vertex normals (24 bytes per triangle); the
+    /// hits it gives equal those computed without it.
+    void cache_flat_frames();
     size_t num_triangles() const { return indices->size() / 3; }
     size_t num_vertices() const { return p->size() - 1; }
     /// Area of triangle i.

@@ -7,6 +7,9 @@ namespace sr {
 namespace {
 
 Frame shading_frame(const SurfaceHit& h) {
+    // The shape's own unit tangent where it has one (flat triangles: computed once per
+    // triangle, as below).
+    if (h.ss.x != 0 || h.ss.y != 0 || h.ss.z != 0) return Frame(h.ss, cross(h.ns, h.ss), h.ns);
     // Gram-Schmidt dpdu against the shading normal; fall back to an arbitrary tangent.
     Vec3 s = h.dpdu - h.ns * dot(h.ns, h.dpdu);
     Float l2 = length_squared(s);
@@ -146,6 +149,7 @@ void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, Surfac
         h.dpdv = normalize(cross(ns, u)) * vl;
     }
     h.ns = ns;
+    h.ss = Vec3(0, 0, 0);  // the shape's tangent was for the unperturbed normal
 }
 
 namespace {

@@ -10,6 +10,8 @@ Scene::Scene(Scene&&) noexcept = default;
 Scene& Scene::operator=(Scene&&) noexcept = default;
 
 void Scene::finalize_geometry() {
+    for (ShapeEntry& e : shapes)
+        if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) mesh->cache_flat_frames();
     m_accel = std::make_unique<Accel>(*this);
     bounds = m_accel->bounds();
 }
