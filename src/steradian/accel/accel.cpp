@@ -225,7 +225,13 @@ struct Accel::Impl {
             h.dndu = w.normal(h.dndu);
             h.dndv = w.normal(h.dndv);
         }
-        h.wo = -normalize(ray.d);
+        // The renderer's rays have unit directions (camera rays and BSDF samples), so wo
+        // needs no square root and division, which sat on the path's critical chain; other
+        // callers' directions are normalised.
+        h.wo = -ray.d;
+        Float l2 = length_squared(ray.d);
+        if (std::abs(l2 - 1) > Float(1e-5)) [[unlikely]]
+            h.wo = h.wo / std::sqrt(l2);
     }
 };
 
