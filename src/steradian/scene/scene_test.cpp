@@ -12,7 +12,7 @@ namespace sr {
 namespace {
 
 // SurfaceHit is compared byte for byte below: it must have no padding.
-static_assert(sizeof(SurfaceHit) == 34 * 4, "SurfaceHit: 34 four-byte fields, no padding");
+static_assert(sizeof(SurfaceHit) == 37 * 4, "SurfaceHit: 37 four-byte fields, no padding");
 
 // One shape of each kind the accelerator fills differently: a curved triangle mesh with vertex
 // normals (its hits have normal derivatives), a flat mesh without, a sphere, a disk, and an
