@@ -31,6 +31,10 @@ struct BsdfSample {
     Float pdf_sa = 0;
     uint8_t flags = kLobeNone;
     Float eta = 1;
+    /// |cos(theta_i)| / pdf_sa where the lobe knows it in closed form (Lambert: pi), so that
+    /// the path's weight f |cos| / pdf needs no division; 0: compute it from wi and pdf_sa.
+    /// Whoever changes pdf_sa or wi of a sample must reset it.
+    Float cos_over_pdf = 0;
     bool is_specular() const { return flags & kLobeSpecular; }
     bool is_transmission() const { return flags & kLobeTransmission; }
     bool is_reflection() const { return flags & kLobeReflection; }

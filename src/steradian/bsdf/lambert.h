@@ -20,7 +20,8 @@ struct LambertLobe {
         if (wo.z < 0) wi.z = -wi.z;
         Float pdf = cosine_hemisphere_pdf(std::abs(wi.z));
         if (pdf == 0) return std::nullopt;
-        return BsdfSample{r * kInvPi, wi, pdf, kLobeReflection | kLobeDiffuse, 1};
+        // f |cos| / pdf = r exactly: (r / pi) |cos| / (|cos| / pi).
+        return BsdfSample{r * kInvPi, wi, pdf, kLobeReflection | kLobeDiffuse, 1, kPi};
     }
     Float pdf(Vec3 wo, Vec3 wi, TransportMode) const {
         if (!same_hemisphere(wo, wi)) return 0;

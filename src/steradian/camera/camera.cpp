@@ -35,14 +35,17 @@ Ray PerspectiveCamera::generate_ray(Point2 p_film, Point2 u_lens) const {
     Vec3 pc(m_raster[0][0] * p_film.x + m_raster[0][1] * p_film.y + m_raster[0][3],
             m_raster[1][0] * p_film.x + m_raster[1][1] * p_film.y + m_raster[1][3],
             m_raster[2][0] * p_film.x + m_raster[2][1] * p_film.y + m_raster[2][3]);
-    Vec3 dir = normalize(pc);
+    // Directions stay unnormalised until the world-space one (one square root and division
+    // per camera ray): the focus point pc (focal_distance / pc.z) does not depend on pc's
+    // length either.
+    Vec3 dir = pc;
     Point3 o(0, 0, 0);
     if (m_p.lens_radius > 0) {
         Point2 pl = sample_uniform_disk_concentric(u_lens) * m_p.lens_radius;
         Float ft = m_p.focal_distance / dir.z;
         Point3 p_focus = dir * ft;
         o = Point3(pl.x, pl.y, 0);
-        dir = normalize(p_focus - o);
+        dir = p_focus - o;
     }
     const auto& w = m_world;
     Point3 ow(w[0][0] * o.x + w[0][1] * o.y + w[0][2] * o.z + w[0][3],

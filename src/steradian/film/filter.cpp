@@ -31,6 +31,11 @@ Filter::Filter(FilterType type, Vec2 radius, Float sigma)
         }
         m_integral[a] = m_cdf[a][n];
         for (auto& c : m_cdf[a]) c /= m_integral[a];
+        m_inv_width[a].resize(n);
+        for (int i = 0; i < n; ++i) {
+            Float width = m_cdf[a][i + 1] - m_cdf[a][i];
+            m_inv_width[a][i] = width > 0 ? 1 / width : 1;
+        }
         // Guide table (Chen & Wu 1990's "cutpoint" method): O(1) expected inversion.
         const int m = kGuidePerCell * n;
         m_guide[a].resize(m);
@@ -79,9 +84,7 @@ Float Filter::sample_1d(Float u, int a, Float& pdf) const {
             const int m = int(m_guide[a].size());
             int i = m_guide[a][std::min(m - 1, int(u * m))];
             while (i < n - 1 && cdf[i + 1] <= u) ++i;
-            Float du = u - cdf[i];
-            Float width = cdf[i + 1] - cdf[i];
-            if (width > 0) du /= width;
+            Float du = (u - cdf[i]) * m_inv_width[a][i];
             Float dx = 2 * r / n;
             pdf = m_func[a][i] / m_integral[a];
             return -r + (i + du) * dx;

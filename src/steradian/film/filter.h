@@ -35,6 +35,9 @@ private:
     Float m_gauss_at_radius[2] = {0, 0};  ///< subtracted so the gaussian reaches 0 at r
     // Gaussian: per-axis piecewise-constant tabulation (value per cell, cdf).
     std::vector<Float> m_func[2], m_cdf[2];
+    /// 1 / (cdf[i + 1] - cdf[i]) per cell (1 for an empty cell): a multiply, not a division,
+    /// on every camera ray's chain.
+    std::vector<Float> m_inv_width[2];
     /// guide[j]: first cell whose cdf end exceeds j / size. kGuidePerCell entries per cell,
     /// so that near the peak, where the cells are sampled most, the search from the guided
     /// cell almost never steps (with one entry per cell, a step taken or not was a coin toss

@@ -276,10 +276,11 @@ bool use_spherical(Float omega) {
 /// decide here, so their densities agree.
 std::optional<SphericalTriangle> spherical_from(const Triangle& t, Point3 ref) {
     Vec3 v = (t.p0 + t.p1 + t.p2) * (Float(1) / 3) - ref;
-    Float d2 = length_squared(v);
-    if (std::abs(dot(t.n, v)) <
-        TriangleMesh::kSphericalSampleEstimate * t.inv_area * d2 * std::sqrt(d2))
-        return std::nullopt;
+    // area |n . v| / d^3 < k, squared (no square root on the light sample's chain), in
+    // double so that neither side overflows or underflows.
+    double d2 = double(length_squared(v)), n_dot = double(dot(t.n, v));
+    double k_inv_area = double(TriangleMesh::kSphericalSampleEstimate) * double(t.inv_area);
+    if (n_dot * n_dot < k_inv_area * k_inv_area * (d2 * d2 * d2)) return std::nullopt;
     std::optional<SphericalTriangle> st(std::in_place, normalize(t.p0 - ref), normalize(t.p1 - ref),
                                         normalize(t.p2 - ref));
     if (!use_spherical(st->area)) st.reset();

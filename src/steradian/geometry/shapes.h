@@ -147,9 +147,11 @@ inline Float area_to_solid_angle_pdf(Float pdf_area, Point3 ref, Point3 p, Norma
     Vec3 d = p - ref;
     Float dist2 = length_squared(d);
     if (dist2 == 0) return 0;
-    Float cos_l = absdot(n, d) / std::sqrt(dist2);
-    if (cos_l == 0) return 0;
-    return pdf_area * dist2 / cos_l;
+    // pdf_area d^2 / |cos| with |cos| = |n . d| / |d|: one division (the square root runs
+    // beside the dot product).
+    Float n_dot = absdot(n, d);
+    if (n_dot == 0) return 0;
+    return pdf_area * dist2 * std::sqrt(dist2) / n_dot;
 }
 
 }  // namespace sr

@@ -15,6 +15,14 @@ inline Float power_heuristic(Float pf, Float pg) {
     return f + g > 0 ? f / (f + g) : 0;
 }
 
+/// power_heuristic(pf, pg) / pf with one division instead of two (the light sample's MIS
+/// weight over its pdf; the two divisions in a row sat on the light sample's chain).
+inline Float power_heuristic_over_pdf(Float pf, Float pg) {
+    Float f = pf * pf, g = pg * pg;
+    if (std::isinf(f)) return 1 / pf;
+    return f + g > 0 ? pf / (f + g) : 0;
+}
+
 /// One path's state. `depth` counts the scattering vertices so far; a contribution made of
 /// emission found after k vertices, or of a light sampled at the k-th vertex, has k vertices
 /// and is counted only if k >= min_vertices.
@@ -81,7 +89,10 @@ public:
         Point2 u = m_sampler.get_2d();
         auto bs = bsdf.sample(hit.wo, uc, u);
         if (!bs) return false;
-        m_beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
+        // The lobe's closed form of |cos| / pdf where it has one (a division less on the
+        // path's chain); the shading normal is the frame's z, so |cos| = |wi . ns|.
+        m_beta *= bs->f * (bs->cos_over_pdf > 0 ? bs->cos_over_pdf
+                                                 : absdot(bs->wi, hit.ns) / bs->pdf_sa);
         m_specular_bounce = bs->is_specular();
         m_prev_pdf_sa = bs->pdf_sa;
         if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
@@ -157,8 +168,9 @@ private:
         ++m_counters.rays;
         if (m_scene.occluded(shadow)) return;
         Float p_l = pmf * ls->pdf_sa;
-        Float w = (ls->delta || !m_use_bsdf_hits) ? 1 : power_heuristic(p_l, ev.pdf_sa);
-        L += m_beta * f * ls->L * (w / p_l);
+        Float w_over_p = (ls->delta || !m_use_bsdf_hits) ? 1 / p_l
+                                                         : power_heuristic_over_pdf(p_l, ev.pdf_sa);
+        L += m_beta * f * ls->L * w_over_p;
     }
 
     const Scene& m_scene;
