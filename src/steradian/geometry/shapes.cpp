@@ -124,7 +124,8 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
     h.dpdv = dpdv;
     if (flat_frames) {
         const FlatFrame& f = (*flat_frames)[i];
-        if (f.s.x != 0 || f.s.y != 0 || f.s.z != 0) {
+        // One branch, not three: which component of s is zero varies from wall to wall.
+        if ((f.s.x != 0) | (f.s.y != 0) | (f.s.z != 0)) {
             h.ng = h.ns = f.n;
             h.ss = f.s;
             return;

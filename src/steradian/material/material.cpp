@@ -9,7 +9,8 @@ namespace {
 Frame shading_frame(const SurfaceHit& h) {
     // The shape's own unit tangent where it has one (flat triangles: computed once per
     // triangle, as below).
-    if (h.ss.x != 0 || h.ss.y != 0 || h.ss.z != 0) return Frame(h.ss, cross(h.ns, h.ss), h.ns);
+    // (One branch, not three: which component of ss is zero varies from hit to hit.)
+    if ((h.ss.x != 0) | (h.ss.y != 0) | (h.ss.z != 0)) return Frame(h.ss, cross(h.ns, h.ss), h.ns);
     // Gram-Schmidt dpdu against the shading normal; fall back to an arbitrary tangent.
     Vec3 s = h.dpdu - h.ns * dot(h.ns, h.dpdu);
     Float l2 = length_squared(s);
