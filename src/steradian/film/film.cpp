@@ -56,10 +56,9 @@ std::array<double, 3> Film::to_sensor(const SampledSpectrum& L,
                                       const SampledWavelengths& lambda) const {
     double xyz[3] = {0, 0, 0};
     // L / pdf for the four wavelengths in one vector division (four double divisions were
-    // a tenth of this function's time); a zero pdf gives 0.
+    // a tenth of this function's time); a lane of zero pdf is not read (`use` below).
     const Float4 pdf{lambda.pdf[0], lambda.pdf[1], lambda.pdf[2], lambda.pdf[3]};
-    const Float4 has_pdf = pdf != Float4{} ? Float4{1, 1, 1, 1} : Float4{};
-    const Float4 l_over_pdf = has_pdf * (L.v / (pdf + (Float4{1, 1, 1, 1} - has_pdf)));
+    const Float4 l_over_pdf = L.v / pdf;
     // Without branches: a wavelength outside the table or of zero pdf adds zero (whether L
     // is zero differs from sample to sample, and skipping was a mispredicted branch about
     // once per camera path).

@@ -38,6 +38,20 @@ struct SurfaceHit {
     int light = -1;     ///< index into Scene::lights if the surface emits, else -1
 };
 
+/// The unit shading tangent of a frame around the unit normal ns: dpdu made perpendicular to
+/// ns (Gram-Schmidt) and normalised; (0, 0, 0) if dpdu is (nearly) parallel to ns, where the
+/// caller chooses an arbitrary tangent. The materials' shading frame and the flat-triangle
+/// cache (SurfaceHit::ss) both use it, so a cached tangent equals a computed one.
+inline Vec3 shading_tangent(Vec3 dpdu, Normal3 ns) {
+    Vec3 s = dpdu - ns * dot(ns, dpdu);
+    Float l2 = length_squared(s);
+    return l2 > 1e-20f ? s / std::sqrt(l2) : Vec3(0, 0, 0);
+}
+
+/// Whether v is not (0, 0, 0), as one branch: which component of a tangent is zero varies
+/// from surface to surface, and `x != 0 || ...` was three data-dependent branches.
+inline bool is_nonzero(Vec3 v) { return (v.x != 0) | (v.y != 0) | (v.z != 0); }
+
 /// The next float above / below v (for finite v; 0 and -0 step to the smallest denormal).
 inline Float next_float_up(Float v) {
     if (std::isinf(v) && v > 0) return v;

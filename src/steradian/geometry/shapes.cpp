@@ -98,12 +98,7 @@ void TriangleMesh::cache_flat_frames() {
         Point2 uv_unused;
         Vec3 dpdu, dpdv;
         triangle_tangents(*this, v, 1, 0, 0, uv_unused, dpdu, dpdv);
-        f.s = Vec3(0, 0, 0);
-        if (degenerate_tangents(dpdu, dpdv, f.n)) continue;
-        // As the material's shading frame: dpdu made perpendicular to the normal.
-        Vec3 t = dpdu - f.n * dot(f.n, dpdu);
-        Float l2 = length_squared(t);
-        if (l2 > 1e-20f) f.s = t / std::sqrt(l2);
+        f.s = degenerate_tangents(dpdu, dpdv, f.n) ? Vec3(0, 0, 0) : shading_tangent(dpdu, f.n);
     }
     flat_frames = std::move(frames);
 }
@@ -124,8 +119,7 @@ void TriangleMesh::fill_hit(size_t i, Float b1, Float b2, SurfaceHit& h) const {
     h.dpdv = dpdv;
     if (flat_frames) {
         const FlatFrame& f = (*flat_frames)[i];
-        // One branch, not three: which component of s is zero varies from wall to wall.
-        if ((f.s.x != 0) | (f.s.y != 0) | (f.s.z != 0)) {
+        if (is_nonzero(f.s)) {
             h.ng = h.ns = f.n;
             h.ss = f.s;
             return;

@@ -355,6 +355,56 @@ TEST(TriangleMesh, SampleNormalsFollowOrientation) {
     EXPECT_NEAR(h.ng.z, 1, 1e-6);
 }
 
+// The per-triangle cache of flat meshes (normal and shading tangent) changes no hit: the same
+// point, normals, uv and dp/du, dp/dv as computed per hit, and a tangent that is the unit
+// Gram-Schmidt of dp/du against the normal (so orthogonal to it). For the default uv, uv
+// given per vertex, either orientation, and a triangle whose uv are degenerate (its
+// tangents come from the fallback, so it is not cached).
+TEST(TriangleMesh, CachedFlatFramesGiveTheSameHits) {
+    for (bool flip : {false, true}) {
+        for (int uv_kind = 0; uv_kind < 3; ++uv_kind) {
+            TriangleMesh m = make_mesh({{0, 0, 0}, {2, 0, 1}, {0, 3, 1}, {1, 1, 3}}, {0, 1, 2, 1, 3, 2});
+            m.flip_normals = flip;
+            if (uv_kind == 1)
+                *m.uv = {{0, 0}, {1, 0.2f}, {0.3f, 1}, {1, 1}};
+            else if (uv_kind == 2)
+                *m.uv = {{0, 0}, {0, 0}, {0, 0}, {0, 0}};  // det = 0: dp/du = dp/dv = 0
+            TriangleMesh cached = m;
+            cached.cache_flat_frames();
+            ASSERT_TRUE(cached.flat_frames);
+            for (size_t tri = 0; tri < 2; ++tri) {
+                SurfaceHit a, b;
+                m.fill_hit(tri, 0.2f, 0.3f, a);
+                cached.fill_hit(tri, 0.2f, 0.3f, b);
+                EXPECT_EQ(a.p, b.p);
+                EXPECT_EQ(a.p_error, b.p_error);
+                EXPECT_EQ(a.uv, b.uv);
+                EXPECT_EQ(a.dpdu, b.dpdu);
+                EXPECT_EQ(a.dpdv, b.dpdv);
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(a.ng[c], b.ng[c], 1e-6f);
+                    EXPECT_NEAR(a.ns[c], b.ns[c], 1e-6f);
+                }
+                EXPECT_FALSE(is_nonzero(a.ss));  // without the cache: computed by the material
+                if (uv_kind == 2) {
+                    EXPECT_FALSE(is_nonzero(b.ss));
+                    continue;
+                }
+                ASSERT_TRUE(is_nonzero(b.ss));
+                EXPECT_NEAR(length(b.ss), 1, 1e-6f);
+                EXPECT_NEAR(dot(b.ss, b.ns), 0, 1e-6f);
+                Vec3 gs = normalize(b.dpdu - b.ns * dot(b.ns, b.dpdu));
+                for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.ss[c], gs[c], 1e-6f);
+            }
+        }
+    }
+    // Meshes with vertex normals are not cached (their frame varies over the triangle).
+    TriangleMesh mn = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2},
+                                {{0, 0, 1}, {0, 0.1f, 1}, {0.1f, 0, 1}});
+    mn.cache_flat_frames();
+    EXPECT_FALSE(mn.flat_frames);
+}
+
 // ---- sphere and disk area sampling --------------------------------------------------------------
 
 TEST(TriangleMesh, BehindTriangleFollowsTheSampledNormal) {

@@ -7,15 +7,10 @@ namespace sr {
 namespace {
 
 Frame shading_frame(const SurfaceHit& h) {
-    // The shape's own unit tangent where it has one (flat triangles: computed once per
-    // triangle, as below).
-    // (One branch, not three: which component of ss is zero varies from hit to hit.)
-    if ((h.ss.x != 0) | (h.ss.y != 0) | (h.ss.z != 0)) return Frame(h.ss, cross(h.ns, h.ss), h.ns);
-    // Gram-Schmidt dpdu against the shading normal; fall back to an arbitrary tangent.
-    Vec3 s = h.dpdu - h.ns * dot(h.ns, h.dpdu);
-    Float l2 = length_squared(s);
-    if (!(l2 > 1e-20f)) return Frame::from_z(h.ns);
-    s = s / std::sqrt(l2);
+    // The shape's own tangent where it has one (flat triangles: computed once per triangle),
+    // else dpdu against the shading normal; an arbitrary tangent if that degenerates.
+    Vec3 s = is_nonzero(h.ss) ? h.ss : shading_tangent(h.dpdu, h.ns);
+    if (!is_nonzero(s)) return Frame::from_z(h.ns);
     return Frame(s, cross(h.ns, s), h.ns);
 }
 
