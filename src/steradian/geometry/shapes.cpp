@@ -70,10 +70,12 @@ void triangle_tangents(const TriangleMesh& m, const uint32_t* v, Float b0, Float
     }
 }
 
-/// Unit geometric normal of a triangle, oriented by the mesh's orientation flag.
-Normal3 triangle_normal(Point3 p0, Point3 p1, Point3 p2, bool flip) {
+/// Unit geometric normal of a triangle, oriented by the mesh's orientation flag; `twice_area`
+/// (if given) receives |(p1 - p0) x (p2 - p0)|.
+Normal3 triangle_normal(Point3 p0, Point3 p1, Point3 p2, bool flip, Float* twice_area = nullptr) {
     Vec3 ng = cross(p1 - p0, p2 - p0);
     Float len = length(ng);
+    if (twice_area) *twice_area = len;
     ng = len > 0 ? ng / len : Vec3(0, 0, 1);
     return flip ? -ng : ng;
 }
@@ -171,10 +173,8 @@ Triangle TriangleMesh::triangle(size_t i) const {
     t.p0 = P[v[0]];
     t.p1 = P[v[1]];
     t.p2 = P[v[2]];
-    Vec3 c = cross(t.p1 - t.p0, t.p2 - t.p0);
-    Float len = length(c);
-    t.n = len > 0 ? c / len : Vec3(0, 0, 1);
-    if (flip_normals) t.n = -t.n;
+    Float len;
+    t.n = triangle_normal(t.p0, t.p1, t.p2, flip_normals, &len);
     t.inv_area = len > 0 ? 2 / len : 0;
     if (n && !n->empty()) t.shaded_mesh = this;
     t.index = uint32_t(i);
