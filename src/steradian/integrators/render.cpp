@@ -160,6 +160,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     Sampler& sampler = *ts.sampler;
                     for (int y = r.rows().begin(); y < r.rows().end(); ++y)
                         for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
+                            sampler.start_pixel(Vec2i(x, y), s0, s1);
                             for (int si = s0; si < s1; ++si) {
                                 sampler.start_pixel_sample(Vec2i(x, y), si);
                                 Point2 up = sampler.get_pixel_2d();

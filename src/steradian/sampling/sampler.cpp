@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstring>
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 
 #include "steradian/core/error.h"
 #include "steradian/sampling/hash.h"
@@ -260,28 +265,42 @@ ZSobolSampler::ZSobolSampler(int samples_per_pixel, Vec2i resolution, uint64_t s
 // hash is computed once (per pixel for the hashed pixel digits and the highest sample digit,
 // whose node is the pixel; per pixel sample for the other sample digits), leaving one multiply
 // per digit and dimension.
-void ZSobolSampler::start_pixel_sample(Vec2i pixel, int sample_index, int dimension) {
+void ZSobolSampler::set_pixel(Vec2i pixel) {
     int odd = m_log2_spp & 1;
     int top = m_num_sample_digits - 1;  // the highest sample digit (-1: none)
-    if (!m_have_pixel || pixel != m_pixel) {
-        m_have_pixel = true;
-        m_pixel = pixel;
-        m_pixel_key = hash(pixel, m_seed);
-        m_prefix_valid = 0;
-        m_pixel_index = encode_morton2(uint32_t(pixel.x), uint32_t(pixel.y)) << m_log2_spp;
-        int top_shift = 2 * m_num_base4_digits - odd;
-        m_index_high_bits = top_shift < 64 ? (m_pixel_index >> top_shift) << top_shift : 0;
-        for (int i = std::max(top, odd); i < m_hashed_digits_end; ++i) {
-            int shift = 2 * i - odd;
-            uint64_t higher = shift + 2 < 64 ? m_pixel_index >> (shift + 2) : 0;
-            m_node_hash[std::size_t(i)] =
-                mix_bits((higher ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
-        }
-        if (odd && top == 0) m_node_hash[0] = mix_bits((m_pixel_index >> 1) ^ m_seed_key);
+    m_have_pixel = true;
+    m_pixel = pixel;
+    m_pixel_key = hash(pixel, m_seed);
+    m_prefix_valid = 0;
+    m_table_pixel = false;
+    m_level_hashes_valid = false;
+    m_pixel_index = encode_morton2(uint32_t(pixel.x), uint32_t(pixel.y)) << m_log2_spp;
+    int top_shift = 2 * m_num_base4_digits - odd;
+    m_index_high_bits = top_shift < 64 ? (m_pixel_index >> top_shift) << top_shift : 0;
+    for (int i = std::max(top, odd); i < m_hashed_digits_end; ++i) {
+        int shift = 2 * i - odd;
+        uint64_t higher = shift + 2 < 64 ? m_pixel_index >> (shift + 2) : 0;
+        m_node_hash[std::size_t(i)] = mix_bits((higher ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
     }
-    m_morton_index = m_pixel_index | uint64_t(uint32_t(sample_index));
-    m_sample_key = hashed_dimensions_key(m_pixel_key, sample_index);
+    if (odd && top == 0) m_node_hash[0] = mix_bits((m_pixel_index >> 1) ^ m_seed_key);
+}
+
+void ZSobolSampler::start_pixel_sample(Vec2i pixel, int sample_index, int dimension) {
+    if (!m_have_pixel || pixel != m_pixel) set_pixel(pixel);
+    m_sample_index = sample_index;
     m_dimension = kPixelDimensions + dimension;
+    m_table_sample = m_table_pixel && sample_index >= m_table_lo && sample_index < m_table_hi;
+    if (m_table_sample)
+        m_sample_nodes_valid = false;
+    else
+        compute_sample_nodes();
+}
+
+void ZSobolSampler::compute_sample_nodes() {
+    int odd = m_log2_spp & 1;
+    int top = m_num_sample_digits - 1;
+    m_morton_index = m_pixel_index | uint64_t(uint32_t(m_sample_index));
+    m_sample_key = hashed_dimensions_key(m_pixel_key, m_sample_index);
     for (int i = odd; i < top; ++i) {
         int shift = 2 * i - odd;
         m_node_hash[std::size_t(i)] =
@@ -291,6 +310,257 @@ void ZSobolSampler::start_pixel_sample(Vec2i pixel, int sample_index, int dimens
     for (int i = odd; i <= top; ++i)
         m_sample_column[std::size_t(i)] =
             kBase4Columns[(m_morton_index >> (2 * i - odd)) & 3].data();
+    m_sample_nodes_valid = true;
+}
+
+// ---- Tables (start_pixel()) ----
+//
+// The sample digits of a pixel's 2^m samples are the leaves of a quadtree whose root is the
+// pixel (the highest sample digit): for a dimension, each node at level i (digit i, at bit
+// 2i - odd) permutes its 4 children by a permutation hashed from the node and the dimension,
+// so that the sample digits of sample j are the OR over the levels of
+// perm(node(j))[digit_i(j)] << (2i - odd). The tables hash each node once per dimension and
+// fill the digits of its children in runs.
+
+void ZSobolSampler::start_pixel(Vec2i pixel, int first_sample, int end_sample) {
+    if (!m_have_pixel || pixel != m_pixel) set_pixel(pixel);
+    const int n = 1 << std::min(m_log2_spp, 30);
+    first_sample = std::max(first_sample, 0);
+    end_sample = std::min(end_sample, n);
+    if (m_log2_spp < 3 || m_log2_spp > 8 || end_sample - first_sample < 8) {
+        m_table_pixel = false;
+        return;
+    }
+    int lo = first_sample & ~7, hi = std::min(n, (end_sample + 7) & ~7);
+    if (m_table_pixel && lo >= m_table_lo && hi <= m_table_hi) return;  // still filled
+    m_table_pixel = true;
+    m_table_lo = lo;
+    m_table_hi = hi;
+    m_table_valid_x = m_table_valid_y = 0;
+    if (m_table_x.empty()) {
+        m_table_x.resize(std::size_t(kTableDimensions) << m_log2_spp);
+        m_table_y.resize(std::size_t(kTableDimensions) << m_log2_spp);
+    }
+}
+
+void ZSobolSampler::fill_level_hashes() {
+    const int m = m_log2_spp, odd = m & 1, top = m_num_sample_digits - 1;
+    std::size_t total = 0;
+    for (int i = 0; i < top; ++i) {
+        m_level_offset[std::size_t(i)] = int(total);
+        // Level i's nodes: the samples sharing the digits above digit i (above bit 0 for the
+        // single-bit digit of odd m).
+        int node_shift = (odd && i == 0) ? 1 : 2 * i - odd + 2;
+        total += std::size_t(1) << (m - node_shift);
+    }
+    m_level_hash.resize(total);
+    for (int i = 0; i < top; ++i) {
+        uint64_t* h = m_level_hash.data() + m_level_offset[std::size_t(i)];
+        if (odd && i == 0) {
+            for (uint64_t k = 0; k < (uint64_t(1) << (m - 1)); ++k)
+                h[k] = mix_bits(((m_pixel_index >> 1) | k) ^ m_seed_key);
+        } else {
+            int node_shift = 2 * i - odd + 2;
+            for (uint64_t k = 0; k < (uint64_t(1) << (m - node_shift)); ++k)
+                h[k] = mix_bits((((m_pixel_index >> node_shift) | k) ^ m_seed_key) +
+                                kGolden64 * uint64_t(i + 1));
+        }
+    }
+    m_level_hashes_valid = true;
+}
+
+namespace {
+
+/// A node's permuted child digits as the bytes of its samples, digit q repeated `run` times:
+/// kChildBytes1[p] (run 1, 4 bytes), kChildBytes2[p] (run 2, 8 bytes), kChildBytes4[p] (run 4,
+/// 16 bytes) for permutation p, little-endian. Shifting them left by a digit's bit position
+/// keeps every byte in place (digits are below 4, positions below 7).
+constexpr std::array<uint32_t, 24> make_child_bytes1() {
+    std::array<uint32_t, 24> t{};
+    for (std::size_t p = 0; p < 24; ++p)
+        for (std::size_t q = 0; q < 4; ++q) t[p] |= uint32_t(kBase4Permutations[p][q]) << (8 * q);
+    return t;
+}
+constexpr std::array<uint64_t, 24> make_child_bytes2() {
+    std::array<uint64_t, 24> t{};
+    for (std::size_t p = 0; p < 24; ++p)
+        for (std::size_t b = 0; b < 8; ++b)
+            t[p] |= uint64_t(kBase4Permutations[p][b / 2]) << (8 * b);
+    return t;
+}
+constexpr std::array<std::array<uint64_t, 2>, 24> make_child_bytes4() {
+    std::array<std::array<uint64_t, 2>, 24> t{};
+    for (std::size_t p = 0; p < 24; ++p)
+        for (std::size_t b = 0; b < 16; ++b)
+            t[p][b / 8] |= uint64_t(kBase4Permutations[p][b / 4]) << (8 * (b % 8));
+    return t;
+}
+constexpr auto kChildBytes1 = make_child_bytes1();
+constexpr auto kChildBytes2 = make_child_bytes2();
+constexpr auto kChildBytes4 = make_child_bytes4();
+
+template <typename T>
+inline void or_bytes(uint8_t* p, T v) {
+    T w;
+    std::memcpy(&w, p, sizeof(T));
+    w |= v;
+    std::memcpy(p, &w, sizeof(T));
+}
+
+/// ORs the child digits of a node with permutation `perm` into its samples' bytes p[0, 4 run).
+inline void or_child_digits(uint8_t* p, std::size_t perm, int shift, int run) {
+    switch (run) {
+        case 1:
+            or_bytes(p, kChildBytes1[perm] << shift);
+            return;
+        case 2:
+            or_bytes(p, kChildBytes2[perm] << shift);
+            return;
+        case 4:
+            or_bytes(p, kChildBytes4[perm][0] << shift);
+            or_bytes(p + 8, kChildBytes4[perm][1] << shift);
+            return;
+        default:
+            for (std::size_t q = 0; q < 4; ++q) {
+                uint64_t w = uint64_t(kBase4Permutations[perm][q] << shift) * 0x0101010101010101ULL;
+                for (int t = 0; t < run; t += 8) or_bytes(p + int(q) * run + t, w);
+            }
+    }
+}
+
+}  // namespace
+
+// Not vectorized: GCC's vector code for the node loop (16 iterations at 64 spp, a 64-bit
+// multiply each) ran more instructions than the scalar loop.
+[[gnu::optimize("no-tree-vectorize")]] void ZSobolSampler::table_sample_digits(int d,
+                                                                               uint8_t* low) const {
+    const int m = m_log2_spp, odd = m & 1, top = m_num_sample_digits - 1;  // m >= 3: top >= 1
+    const uint64_t key = m_dim_key[std::size_t(d)];
+    const int lo = m_table_lo, hi = m_table_hi;  // multiples of 8
+    for (int j = lo; j < hi; j += 8) std::memset(low + j, 0, 8);
+    // The highest digit: one node, the pixel, whose permutation is memoized per dimension.
+    {
+        const int shift = 2 * top - odd, run = 1 << shift;
+        const int k0 = lo >> (shift + 2);
+        or_child_digits(low + (k0 << (shift + 2)), m_top_choice[std::size_t(d)], shift, run);
+    }
+    for (int i = odd; i < top; ++i) {
+        const int shift = 2 * i - odd, run = 1 << shift, node_shift = shift + 2;
+        const uint64_t* h = m_level_hash.data() + m_level_offset[std::size_t(i)];
+        const int k_end = (hi + (1 << node_shift) - 1) >> node_shift;
+        for (int k = lo >> node_shift; k < k_end; ++k)
+            or_child_digits(low + (k << node_shift), base4_permutation(h[k], key), shift, run);
+    }
+    if (odd) {  // the single-bit lowest digit: one flip per pair of samples
+        const uint64_t* h = m_level_hash.data();
+        for (int k = lo >> 1; k < hi >> 1; ++k)
+            or_bytes(low + 2 * k, uint16_t(binary_flip(h[k], key) ? 0x0001 : 0x0100));
+    }
+}
+
+namespace {
+
+/// out[j] = sobol_1d_float(base ^ low[j], r, seed): the randomized Sobol dimension 0, for j in
+/// [lo, hi), multiples of 8.
+void randomized_dim0(uint32_t base, const uint8_t* low, float* out, int lo, int hi, Randomization r,
+                     uint32_t seed) {
+#if defined(__AVX2__)
+    const __m256i b = _mm256_set1_epi32(int32_t(base));
+    const __m256i s = _mm256_set1_epi32(int32_t(seed));
+    const __m256i mul = _mm256_set1_epi32(int32_t((seed >> 16) | 1u));
+    const __m256i nibble = _mm256_set1_epi8(0x0f);
+    const __m256i rev_to_high =
+        _mm256_setr_epi8(0x00, char(0x80), 0x40, char(0xc0), 0x20, char(0xa0), 0x60, char(0xe0),
+                         0x10, char(0x90), 0x50, char(0xd0), 0x30, char(0xb0), 0x70, char(0xf0),
+                         0x00, char(0x80), 0x40, char(0xc0), 0x20, char(0xa0), 0x60, char(0xe0),
+                         0x10, char(0x90), 0x50, char(0xd0), 0x30, char(0xb0), 0x70, char(0xf0));
+    const __m256i rev_to_low = _mm256_setr_epi8(
+        0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf, 0x0, 0x8,
+        0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf);
+    const __m256i byte_swap =
+        _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5,
+                         4, 11, 10, 9, 8, 15, 14, 13, 12);
+    for (int j = lo; j < hi; j += 8) {
+        __m256i x =
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(low + j)));
+        x = _mm256_xor_si256(x, b);
+        if (r == Randomization::kOwen) {  // laine_karras_permutation
+            x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(0x3d20adea)));
+            x = _mm256_add_epi32(x, s);
+            x = _mm256_mullo_epi32(x, mul);
+            x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(0x05526c56)));
+            x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(0x53a22864)));
+        }
+        // reverse_bits32: a byte swap and two nibble-reversal lookups.
+        x = _mm256_shuffle_epi8(x, byte_swap);
+        __m256i lo_n = _mm256_and_si256(x, nibble);
+        __m256i hi_n = _mm256_and_si256(_mm256_srli_epi16(x, 4), nibble);
+        x = _mm256_or_si256(_mm256_shuffle_epi8(rev_to_high, lo_n),
+                            _mm256_shuffle_epi8(rev_to_low, hi_n));
+        if (r == Randomization::kXor) x = _mm256_xor_si256(x, s);
+        // u32_to_unit_float, 4 lanes at a time: exact unsigned -> double conversion (sign
+        // flip, signed conversion, + 2^31), truncation to 24 significant bits, exact -> float.
+        const __m256i sign = _mm256_set1_epi32(int32_t(0x80000000u));
+        const __m256d two31 = _mm256_set1_pd(2147483648.0);
+        const __m256d mask = _mm256_castsi256_pd(_mm256_set1_epi64x(~int64_t(0x1fffffff)));
+        const __m256d scale = _mm256_set1_pd(0x1p-32);
+        x = _mm256_xor_si256(x, sign);
+        __m256d d0 = _mm256_add_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(x)), two31);
+        __m256d d1 = _mm256_add_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(x, 1)), two31);
+        d0 = _mm256_mul_pd(_mm256_and_pd(d0, mask), scale);
+        d1 = _mm256_mul_pd(_mm256_and_pd(d1, mask), scale);
+        _mm_storeu_ps(out + j, _mm256_cvtpd_ps(d0));
+        _mm_storeu_ps(out + j + 4, _mm256_cvtpd_ps(d1));
+    }
+#else
+    for (int j = lo; j < hi; ++j) out[j] = sobol_1d_float(base ^ low[j], r, seed);
+#endif
+}
+
+}  // namespace
+
+[[gnu::noinline]] void ZSobolSampler::build_table(int slot, bool need_y) {
+    // Slot 2 (get_pixel_1d): Sobol dimension 2 of dimension 0's index.
+    const int d = slot == 2 ? 0 : slot;
+    const auto i = std::size_t(d);
+    if (!((m_prefix_valid >> d) & 1)) fill_pixel_dimension(d);
+    if (!m_level_hashes_valid) fill_level_hashes();
+    alignas(32) uint8_t low[256];
+    table_sample_digits(d, low);
+    const int lo = m_table_lo, hi = m_table_hi;
+    const std::size_t base = std::size_t(slot) << m_log2_spp;
+    const uint64_t bit = uint64_t(1) << slot;
+    // The index is prefix | low with no prefix bits below 2^m; the Sobol dimension-1 and -2
+    // digits are linear over GF(2) and map the bits below 2^8 to bits below 2^8, so those of
+    // the index are the prefix's (memoized) XOR those of low, from byte tables.
+    alignas(32) uint8_t mapped[256];
+    if (!(m_table_valid_x & bit)) {
+        if (slot == 2) {
+            for (int j = lo; j < hi; ++j) mapped[j] = uint8_t(kSobolDim2Bytes[0][low[j]]);
+            randomized_dim0(sobol_dim2_digits(uint32_t(m_prefix[0])), mapped,
+                            m_table_x.data() + base, lo, hi, m_randomize,
+                            uint32_t(m_scramble_key[2]));
+        } else {
+            randomized_dim0(uint32_t(m_prefix[i]), low, m_table_x.data() + base, lo, hi,
+                            m_randomize, uint32_t(m_scramble_key[i]));
+        }
+        m_table_valid_x |= bit;
+    }
+    if (need_y && !(m_table_valid_y & bit)) {
+        // value_2d's second coordinate: dimension-1 digits, scrambled with the key's high half.
+        // pascal_mod2_transform of 8 bytes at once: no step moves a bit across a byte.
+        for (int j = lo; j < hi; j += 8) {
+            uint64_t a;
+            std::memcpy(&a, low + j, 8);
+            a ^= (a >> 1) & 0x5555555555555555ULL;
+            a ^= (a >> 2) & 0x3333333333333333ULL;
+            a ^= (a >> 4) & 0x0f0f0f0f0f0f0f0fULL;
+            std::memcpy(mapped + j, &a, 8);
+        }
+        randomized_dim0(m_prefix_pascal[i], mapped, m_table_y.data() + base, lo, hi, m_randomize,
+                        uint32_t(m_scramble_key[i] >> 32));
+        m_table_valid_y |= bit;
+    }
 }
 
 // Per-node random permutation of the four quadrants (Ahmed & Wonka 2020, Sec. 4: a nested,
@@ -340,7 +610,8 @@ uint64_t ZSobolSampler::sample_digits(uint64_t dim_key, uint8_t top_choice) cons
     }
 }
 
-uint64_t ZSobolSampler::sobol_index(int dimension) const {
+uint64_t ZSobolSampler::sobol_index(int dimension) {
+    if (!m_sample_nodes_valid) compute_sample_nodes();
     uint64_t key = dimension_key(dimension);
     return pixel_digits(key, dimension_xor(key)) | sample_digits<-1>(key, top_sample_choice(key));
 }
@@ -441,6 +712,13 @@ void ZSobolSampler::select_kernels() {
 
 Float ZSobolSampler::get_1d() {
     int d = m_dimension++;
+    if (use_table(d)) {
+        if (!((m_table_valid_x >> d) & 1)) [[unlikely]]
+            build_table(d, false);
+        return m_table_x[(std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index)];
+    }
+    if (!m_sample_nodes_valid) [[unlikely]]
+        compute_sample_nodes();
     if (d >= kLowDiscrepancyDimensions) [[unlikely]]
         return hashed_1d(m_sample_key, d);
     return m_get_1d_fn(*this, d);
@@ -453,12 +731,24 @@ Point2 ZSobolSampler::get_2d() {
 }
 
 Point2 ZSobolSampler::sample_2d(int d) {
+    if (use_table(d)) return table_2d(d);
+    if (!m_sample_nodes_valid) [[unlikely]]
+        compute_sample_nodes();
     if (d >= kLowDiscrepancyDimensions) [[unlikely]]
         return hashed_2d(m_sample_key, d);
     return m_sample_2d_fn(*this, d);
 }
 
-Float ZSobolSampler::get_pixel_1d() { return m_pixel_1d_fn(*this, 0); }
+Float ZSobolSampler::get_pixel_1d() {
+    if (m_table_sample) {
+        if (!((m_table_valid_x >> 2) & 1)) [[unlikely]]
+            build_table(2, false);
+        return m_table_x[(std::size_t(2) << m_log2_spp) + std::size_t(m_sample_index)];
+    }
+    if (!m_sample_nodes_valid) [[unlikely]]
+        compute_sample_nodes();
+    return m_pixel_1d_fn(*this, 0);
+}
 
 std::unique_ptr<Sampler> ZSobolSampler::clone() const {
     return std::make_unique<ZSobolSampler>(*this);

@@ -480,6 +480,84 @@ TEST(Sampler, ZSobolBlocksAboveTheHashedLevelsFormNets) {
     }
 }
 
+TEST(Sampler, ZSobolTablesArePointsOfTheShuffledIndex) {
+    // As below, with the per-pixel tables of a start_pixel() hint serving the samples: the
+    // values are still the Sobol points (dimensions 0, 1 and 2 for the pixel sample) of the
+    // index sobol_index() computes from scratch.
+    for (int spp : {8, 9, 16, 32, 64, 128, 256}) {
+        ZSobolSampler s(spp, {512, 512}, 3, Randomization::kNone);
+        for (Vec2i p : {Vec2i{0, 0}, Vec2i{511, 511}, Vec2i{200, 77}}) {
+            s.start_pixel(p, 0, spp);
+            for (int i = 0; i < spp; ++i) {
+                s.start_pixel_sample(p, i);
+                uint64_t a0 = s.sobol_index(0);
+                Point2 pp = s.get_pixel_2d();
+                ASSERT_EQ(pp.x, u32_to_unit_float(sobol_u32_dim0(a0)));
+                ASSERT_EQ(pp.y, u32_to_unit_float(sobol_u32_dim1(a0)));
+                ASSERT_EQ(s.get_pixel_1d(), u32_to_unit_float(sobol_u32_dim2(a0)));
+                for (int d = Sampler::kPixelDimensions; d < ZSobolSampler::kTableDimensions + 4;) {
+                    uint64_t a = s.sobol_index(d);
+                    if ((d + i) % 3 == 0) {
+                        Point2 q = s.get_2d();
+                        ASSERT_EQ(q.x, u32_to_unit_float(sobol_u32_dim0(a))) << spp << " " << d;
+                        ASSERT_EQ(q.y, u32_to_unit_float(sobol_u32_dim1(a))) << spp << " " << d;
+                        d += 2;
+                    } else {
+                        ASSERT_EQ(s.get_1d(), u32_to_unit_float(sobol_u32_dim0(a)))
+                            << spp << " " << d;
+                        d += 1;
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(Sampler, ZSobolTablesChangeNoValue) {
+    // Randomized values with and without start_pixel() hints agree bit for bit, for whole and
+    // partial runs, samples outside the hinted run, runs too short for tables, and pixels
+    // revisited after another pixel.
+    for (Randomization r : {Randomization::kOwen, Randomization::kXor}) {
+        for (int spp : {1, 4, 8, 12, 16, 32, 64, 100, 128, 256, 512}) {
+            ZSobolSampler plain(spp, kResolution, 11, r), hinted(spp, kResolution, 11, r);
+            struct Run {
+                Vec2i pixel;
+                int first, end;
+            };
+            std::vector<Run> runs = {{{5, 7}, 0, spp},
+                                     {{6, 7}, 3, std::min(spp, 21)},
+                                     {{5, 7}, spp / 2, spp},
+                                     {{63, 47}, 0, std::min(spp, 7)},
+                                     {{0, 0}, 8, std::min(spp, 16)}};
+            for (const Run& run : runs) {
+                hinted.start_pixel(run.pixel, run.first, run.end);
+                // The hinted run, then two samples outside it.
+                std::vector<int> samples;
+                for (int i = run.first; i < run.end; ++i) samples.push_back(i);
+                samples.push_back(0);
+                samples.push_back(spp - 1);
+                for (int i : samples) {
+                    plain.start_pixel_sample(run.pixel, i);
+                    hinted.start_pixel_sample(run.pixel, i);
+                    ASSERT_EQ(plain.get_pixel_2d(), hinted.get_pixel_2d()) << spp << " " << i;
+                    ASSERT_EQ(plain.get_pixel_1d(), hinted.get_pixel_1d()) << spp << " " << i;
+                    for (int d = Sampler::kPixelDimensions; d < kLowDiscrepancyDimensions + 6;) {
+                        if ((d * 7 + i) % 5 < 2) {
+                            ASSERT_EQ(plain.get_2d(), hinted.get_2d())
+                                << spp << " " << i << " " << d;
+                            d += 2;
+                        } else {
+                            ASSERT_EQ(plain.get_1d(), hinted.get_1d())
+                                << spp << " " << i << " " << d;
+                            d += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 TEST(Sampler, ZSobolValuesArePointsOfTheShuffledIndex) {
     // The samplers memoize per-pixel parts of the index; sobol_index() computes it from scratch.
     // Without randomization the values are the Sobol points of that index exactly.
