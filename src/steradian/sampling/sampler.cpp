@@ -710,11 +710,21 @@ void ZSobolSampler::select_kernels() {
     }
 }
 
+// get_1d() and get_2d() serve a filled table entry without a stack frame; everything else
+// (filling a table, the memoized per-sample path, hashed dimensions) is a tail call.
 Float ZSobolSampler::get_1d() {
+    int d = m_dimension;
+    if (use_table(d) && ((m_table_valid_x >> d) & 1)) {
+        m_dimension = d + 1;
+        return m_table_x[(std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index)];
+    }
+    return get_1d_slow();
+}
+
+[[gnu::noinline]] Float ZSobolSampler::get_1d_slow() {
     int d = m_dimension++;
     if (use_table(d)) {
-        if (!((m_table_valid_x >> d) & 1)) [[unlikely]]
-            build_table(d, false);
+        build_table(d, false);
         return m_table_x[(std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index)];
     }
     if (!m_sample_nodes_valid) [[unlikely]]
@@ -725,6 +735,16 @@ Float ZSobolSampler::get_1d() {
 }
 
 Point2 ZSobolSampler::get_2d() {
+    int d = m_dimension;
+    if (use_table(d) && ((m_table_valid_y >> d) & 1)) {
+        m_dimension = d + 2;
+        std::size_t i = (std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index);
+        return {m_table_x[i], m_table_y[i]};
+    }
+    return get_2d_slow();
+}
+
+[[gnu::noinline]] Point2 ZSobolSampler::get_2d_slow() {
     Point2 p = sample_2d(m_dimension);
     m_dimension += 2;
     return p;

@@ -234,6 +234,8 @@ class ZSobolSampler final : public Sampler {
     static constexpr int kMaxDigits = 32;  // base-4 digits of a 64-bit index
 
     Point2 sample_2d(int dimension);
+    Float get_1d_slow();
+    Point2 get_2d_slow();
     // Kernels of get_1d() and sample_2d() for dimension d < kLowDiscrepancyDimensions,
     // specialized on log2(samples per pixel) (kLog2Spp < 0: any m > 8).
     using Get1dFn = Float (*)(ZSobolSampler&, int);
