@@ -45,14 +45,18 @@ inline void sincos_pi4(Float x, Float& s, Float& c) {
                   x2 * (Float(0.041666651) + x2 * (Float(-0.00138875996) + x2 * Float(2.44647709e-05))));
 }
 
-/// sin and cos of x for |x| <= 64: reduction by the nearest multiple k of pi/2 (pi/2 split in
-/// two floats, so the remainder stays accurate), then sincos_pi4 and the quadrant's symmetry.
-/// Absolute error < 2e-7 over that range.
+/// sin and cos of x for |x| <= 64: reduction by the nearest multiple k of pi/2, then
+/// sincos_pi4 and the quadrant's symmetry. Absolute error < 2e-7 over that range.
+/// The reduction is Cody and Waite's (as in Cephes' sinf): pi/2 split in three floats whose
+/// first two have few significant bits, so that k times each is exact and the remainder
+/// stays accurate with or without fused multiply-adds (a two-float split relied on the
+/// compiler contracting x - k * hi into an FMA: without FMA, the error reached 2e-6).
 inline void fast_sincos(Float x, Float& s, Float& c) {
-    constexpr Float kPiOver2Hi = 1.57079637f;        // float nearest pi/2
-    constexpr Float kPiOver2Lo = -4.37113883e-08f;  // pi/2 - kPiOver2Hi
+    constexpr Float kPiOver2A = 1.5703125f;                // 8 significant bits
+    constexpr Float kPiOver2B = 4.837512969970703125e-4f;  // 11 significant bits
+    constexpr Float kPiOver2C = 7.5497899487686e-8f;       // pi/2 - A - B, rounded
     Float k = std::nearbyint(x * Float(0.636619772));  // x * 2/pi
-    Float r = (x - k * kPiOver2Hi) - k * kPiOver2Lo;
+    Float r = ((x - k * kPiOver2A) - k * kPiOver2B) - k * kPiOver2C;
     Float sr, cr;
     sincos_pi4(r, sr, cr);
     switch (int(k) & 3) {
