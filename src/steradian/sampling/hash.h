@@ -146,12 +146,15 @@ constexpr uint64_t reverse_bits64(uint64_t v) {
 /// Transparency") with the improved constants of Burley 2020, "Practical Hash-based Owen
 /// Scrambling", JCGT 9(4), Listing 4. Every step (xor with an even multiple, add, odd
 /// multiply) changes bit k only as a function of bits <= k, and is bijective.
+/// The even multipliers of laine_karras_permutation's three xor steps (also used by the
+/// vector forms in sobol.h).
+inline constexpr uint32_t kLaineKarrasMul[3] = {0x3d20adeau, 0x05526c56u, 0x53a22864u};
 constexpr uint32_t laine_karras_permutation(uint32_t x, uint32_t seed) {
-    x ^= x * 0x3d20adeau;
+    x ^= x * kLaineKarrasMul[0];
     x += seed;
     x *= (seed >> 16) | 1u;
-    x ^= x * 0x05526c56u;
-    x ^= x * 0x53a22864u;
+    x ^= x * kLaineKarrasMul[1];
+    x ^= x * kLaineKarrasMul[2];
     return x;
 }
 

@@ -5,10 +5,6 @@
 #include <bit>
 #include <cstring>
 
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
-
 #include "steradian/core/error.h"
 #include "steradian/sampling/hash.h"
 
@@ -119,6 +115,18 @@ constexpr auto kBase4Columns = make_base4_columns();
 /// Odd multiplier that turns (node hash ^ dimension key) into a permutation choice (a
 /// bijection whose top bits depend on all bits).
 constexpr uint64_t kPermutationMul = 0xd6e8feb86659fd93ULL;
+
+/// Hash of the quadtree node of base-4 digit `digit` whose index bits above the digit are
+/// `higher` (the index shifted right past the digit).
+inline uint64_t digit_node_hash(uint64_t higher, uint64_t seed_key, int digit) {
+    return mix_bits((higher ^ seed_key) + kGolden64 * uint64_t(digit + 1));
+}
+
+/// Hash of the node of the single-bit lowest digit (odd m) whose index bits above bit 0 are
+/// `higher`.
+inline uint64_t bit_node_hash(uint64_t higher, uint64_t seed_key) {
+    return mix_bits(higher ^ seed_key);
+}
 
 /// Which of the 24 permutations of {0,1,2,3} a quadtree node uses for a dimension.
 inline std::size_t base4_permutation(uint64_t node_hash, uint64_t dim_key) {
@@ -280,9 +288,9 @@ void ZSobolSampler::set_pixel(Vec2i pixel) {
     for (int i = std::max(top, odd); i < m_hashed_digits_end; ++i) {
         int shift = 2 * i - odd;
         uint64_t higher = shift + 2 < 64 ? m_pixel_index >> (shift + 2) : 0;
-        m_node_hash[std::size_t(i)] = mix_bits((higher ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
+        m_node_hash[std::size_t(i)] = digit_node_hash(higher, m_seed_key, i);
     }
-    if (odd && top == 0) m_node_hash[0] = mix_bits((m_pixel_index >> 1) ^ m_seed_key);
+    if (odd && top == 0) m_node_hash[0] = bit_node_hash(m_pixel_index >> 1, m_seed_key);
 }
 
 void ZSobolSampler::start_pixel_sample(Vec2i pixel, int sample_index, int dimension) {
@@ -303,10 +311,9 @@ void ZSobolSampler::compute_sample_nodes() {
     m_sample_key = hashed_dimensions_key(m_pixel_key, m_sample_index);
     for (int i = odd; i < top; ++i) {
         int shift = 2 * i - odd;
-        m_node_hash[std::size_t(i)] =
-            mix_bits(((m_morton_index >> (shift + 2)) ^ m_seed_key) + kGolden64 * uint64_t(i + 1));
+        m_node_hash[std::size_t(i)] = digit_node_hash(m_morton_index >> (shift + 2), m_seed_key, i);
     }
-    if (odd && top > 0) m_node_hash[0] = mix_bits((m_morton_index >> 1) ^ m_seed_key);
+    if (odd && top > 0) m_node_hash[0] = bit_node_hash(m_morton_index >> 1, m_seed_key);
     for (int i = odd; i <= top; ++i)
         m_sample_column[std::size_t(i)] =
             kBase4Columns[(m_morton_index >> (2 * i - odd)) & 3].data();
@@ -358,12 +365,11 @@ void ZSobolSampler::fill_level_hashes() {
         uint64_t* h = m_level_hash.data() + m_level_offset[std::size_t(i)];
         if (odd && i == 0) {
             for (uint64_t k = 0; k < (uint64_t(1) << (m - 1)); ++k)
-                h[k] = mix_bits(((m_pixel_index >> 1) | k) ^ m_seed_key);
+                h[k] = bit_node_hash((m_pixel_index >> 1) | k, m_seed_key);
         } else {
             int node_shift = 2 * i - odd + 2;
             for (uint64_t k = 0; k < (uint64_t(1) << (m - node_shift)); ++k)
-                h[k] = mix_bits((((m_pixel_index >> node_shift) | k) ^ m_seed_key) +
-                                kGolden64 * uint64_t(i + 1));
+                h[k] = digit_node_hash((m_pixel_index >> node_shift) | k, m_seed_key, i);
         }
     }
     m_level_hashes_valid = true;
@@ -464,53 +470,12 @@ namespace {
 /// [lo, hi), multiples of 8.
 void randomized_dim0(uint32_t base, const uint8_t* low, float* out, int lo, int hi, Randomization r,
                      uint32_t seed) {
-#if defined(__AVX2__)
+#if defined(SR_SOBOL_AVX2)
     const __m256i b = _mm256_set1_epi32(int32_t(base));
-    const __m256i s = _mm256_set1_epi32(int32_t(seed));
-    const __m256i mul = _mm256_set1_epi32(int32_t((seed >> 16) | 1u));
-    const __m256i nibble = _mm256_set1_epi8(0x0f);
-    const __m256i rev_to_high =
-        _mm256_setr_epi8(0x00, char(0x80), 0x40, char(0xc0), 0x20, char(0xa0), 0x60, char(0xe0),
-                         0x10, char(0x90), 0x50, char(0xd0), 0x30, char(0xb0), 0x70, char(0xf0),
-                         0x00, char(0x80), 0x40, char(0xc0), 0x20, char(0xa0), 0x60, char(0xe0),
-                         0x10, char(0x90), 0x50, char(0xd0), 0x30, char(0xb0), 0x70, char(0xf0));
-    const __m256i rev_to_low = _mm256_setr_epi8(
-        0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf, 0x0, 0x8,
-        0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf);
-    const __m256i byte_swap =
-        _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5,
-                         4, 11, 10, 9, 8, 15, 14, 13, 12);
     for (int j = lo; j < hi; j += 8) {
-        __m256i x =
+        __m256i a =
             _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(low + j)));
-        x = _mm256_xor_si256(x, b);
-        if (r == Randomization::kOwen) {  // laine_karras_permutation
-            x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(0x3d20adea)));
-            x = _mm256_add_epi32(x, s);
-            x = _mm256_mullo_epi32(x, mul);
-            x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(0x05526c56)));
-            x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(0x53a22864)));
-        }
-        // reverse_bits32: a byte swap and two nibble-reversal lookups.
-        x = _mm256_shuffle_epi8(x, byte_swap);
-        __m256i lo_n = _mm256_and_si256(x, nibble);
-        __m256i hi_n = _mm256_and_si256(_mm256_srli_epi16(x, 4), nibble);
-        x = _mm256_or_si256(_mm256_shuffle_epi8(rev_to_high, lo_n),
-                            _mm256_shuffle_epi8(rev_to_low, hi_n));
-        if (r == Randomization::kXor) x = _mm256_xor_si256(x, s);
-        // u32_to_unit_float, 4 lanes at a time: exact unsigned -> double conversion (sign
-        // flip, signed conversion, + 2^31), truncation to 24 significant bits, exact -> float.
-        const __m256i sign = _mm256_set1_epi32(int32_t(0x80000000u));
-        const __m256d two31 = _mm256_set1_pd(2147483648.0);
-        const __m256d mask = _mm256_castsi256_pd(_mm256_set1_epi64x(~int64_t(0x1fffffff)));
-        const __m256d scale = _mm256_set1_pd(0x1p-32);
-        x = _mm256_xor_si256(x, sign);
-        __m256d d0 = _mm256_add_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(x)), two31);
-        __m256d d1 = _mm256_add_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(x, 1)), two31);
-        d0 = _mm256_mul_pd(_mm256_and_pd(d0, mask), scale);
-        d1 = _mm256_mul_pd(_mm256_and_pd(d1, mask), scale);
-        _mm_storeu_ps(out + j, _mm256_cvtpd_ps(d0));
-        _mm_storeu_ps(out + j + 4, _mm256_cvtpd_ps(d1));
+        _mm256_storeu_ps(out + j, detail::sobol_1d_float_epi32x8(_mm256_xor_si256(a, b), r, seed));
     }
 #else
     for (int j = lo; j < hi; ++j) out[j] = sobol_1d_float(base ^ low[j], r, seed);
@@ -716,7 +681,7 @@ Float ZSobolSampler::get_1d() {
     int d = m_dimension;
     if (use_table(d) && ((m_table_valid_x >> d) & 1)) {
         m_dimension = d + 1;
-        return m_table_x[(std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index)];
+        return m_table_x[table_index(d)];
     }
     return get_1d_slow();
 }
@@ -725,7 +690,7 @@ Float ZSobolSampler::get_1d() {
     int d = m_dimension++;
     if (use_table(d)) {
         build_table(d, false);
-        return m_table_x[(std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index)];
+        return m_table_x[table_index(d)];
     }
     if (!m_sample_nodes_valid) [[unlikely]]
         compute_sample_nodes();
@@ -738,8 +703,7 @@ Point2 ZSobolSampler::get_2d() {
     int d = m_dimension;
     if (use_table(d) && ((m_table_valid_y >> d) & 1)) {
         m_dimension = d + 2;
-        std::size_t i = (std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index);
-        return {m_table_x[i], m_table_y[i]};
+        return {m_table_x[table_index(d)], m_table_y[table_index(d)]};
     }
     return get_2d_slow();
 }
@@ -763,7 +727,7 @@ Float ZSobolSampler::get_pixel_1d() {
     if (m_table_sample) {
         if (!((m_table_valid_x >> 2) & 1)) [[unlikely]]
             build_table(2, false);
-        return m_table_x[(std::size_t(2) << m_log2_spp) + std::size_t(m_sample_index)];
+        return m_table_x[table_index(2)];
     }
     if (!m_sample_nodes_valid) [[unlikely]]
         compute_sample_nodes();

@@ -276,12 +276,14 @@ class ZSobolSampler final : public Sampler {
     /// for the table run: its first coordinate, and its second if need_y.
     void build_table(int slot, bool need_y);
     bool use_table(int d) const { return m_table_sample && d < kTableDimensions; }
+    /// Where the current sample's entry of table slot d is.
+    std::size_t table_index(int d) const {
+        return (std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index);
+    }
     Point2 table_2d(int d) {
-        uint64_t bit = uint64_t(1) << d;
-        if (!(m_table_valid_y & bit)) [[unlikely]]
+        if (!((m_table_valid_y >> d) & 1)) [[unlikely]]
             build_table(d, true);
-        std::size_t i = (std::size_t(d) << m_log2_spp) + std::size_t(m_sample_index);
-        return {m_table_x[i], m_table_y[i]};
+        return {m_table_x[table_index(d)], m_table_y[table_index(d)]};
     }
     /// The shuffled digits above the sample digits (pixel digits and bits above them).
     uint64_t pixel_digits(uint64_t dim_key, uint64_t dim_xor) const;

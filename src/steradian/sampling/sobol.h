@@ -19,6 +19,10 @@
 #if defined(__SSE4_1__) && defined(__SSSE3__) && defined(__x86_64__)
 #include <smmintrin.h>
 #define SR_SOBOL_SSE4 1
+#if defined(__AVX2__)
+#include <immintrin.h>
+#define SR_SOBOL_AVX2 1
+#endif
 #endif
 
 #include "steradian/core/math.h"
@@ -152,30 +156,38 @@ constexpr uint32_t randomize(uint32_t v, Randomization r, uint32_t seed) {
 #if defined(SR_SOBOL_SSE4)
 namespace detail {
 
+// The lookup tables of reverse_bits_epi32: reversed nibble n placed in the high or low half of
+// a byte, and the byte reversal of each 32-bit lane.
+inline __m128i nibble_reversed_high() {
+    return _mm_setr_epi8(0x00, char(0x80), 0x40, char(0xc0), 0x20, char(0xa0), 0x60, char(0xe0),
+                         0x10, char(0x90), 0x50, char(0xd0), 0x30, char(0xb0), 0x70, char(0xf0));
+}
+inline __m128i nibble_reversed_low() {
+    return _mm_setr_epi8(0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7,
+                         0xf);
+}
+inline __m128i byte_swap_epi32() {
+    return _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
+}
+
 /// reverse_bits32 of each 32-bit lane: a byte swap and two 16-entry nibble-reversal lookups.
 inline __m128i reverse_bits_epi32(__m128i v) {
     const __m128i nibble = _mm_set1_epi8(0x0f);
-    // Reversed nibble n, placed in the high (rev_to_high) or low (rev_to_low) half of a byte.
-    const __m128i rev_to_high =
-        _mm_setr_epi8(0x00, char(0x80), 0x40, char(0xc0), 0x20, char(0xa0), 0x60, char(0xe0), 0x10,
-                      char(0x90), 0x50, char(0xd0), 0x30, char(0xb0), 0x70, char(0xf0));
-    const __m128i rev_to_low = _mm_setr_epi8(0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5,
-                                             0xd, 0x3, 0xb, 0x7, 0xf);
-    const __m128i byte_swap = _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
-    v = _mm_shuffle_epi8(v, byte_swap);
+    v = _mm_shuffle_epi8(v, byte_swap_epi32());
     __m128i lo = _mm_and_si128(v, nibble);
     __m128i hi = _mm_and_si128(_mm_srli_epi16(v, 4), nibble);
-    return _mm_or_si128(_mm_shuffle_epi8(rev_to_high, lo), _mm_shuffle_epi8(rev_to_low, hi));
+    return _mm_or_si128(_mm_shuffle_epi8(nibble_reversed_high(), lo),
+                        _mm_shuffle_epi8(nibble_reversed_low(), hi));
 }
 
 /// laine_karras_permutation of each 32-bit lane with that lane's seed.
 inline __m128i laine_karras_epi32(__m128i x, __m128i seed) {
     __m128i mul = _mm_or_si128(_mm_srli_epi32(seed, 16), _mm_set1_epi32(1));
-    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(0x3d20adea)));
+    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(int32_t(kLaineKarrasMul[0]))));
     x = _mm_add_epi32(x, seed);
     x = _mm_mullo_epi32(x, mul);
-    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(0x05526c56)));
-    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(0x53a22864)));
+    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(int32_t(kLaineKarrasMul[1]))));
+    x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(int32_t(kLaineKarrasMul[2]))));
     return x;
 }
 
@@ -193,6 +205,52 @@ inline Point2 to_point2(__m128 f) {
     static_assert(sizeof(Point2) == 8);
     return std::bit_cast<Point2>(_mm_cvtsi128_si64(_mm_castps_si128(f)));
 }
+
+#if defined(SR_SOBOL_AVX2)
+/// reverse_bits_epi32 of 8 lanes.
+inline __m256i reverse_bits_epi32(__m256i v) {
+    const __m256i nibble = _mm256_set1_epi8(0x0f);
+    v = _mm256_shuffle_epi8(v, _mm256_broadcastsi128_si256(byte_swap_epi32()));
+    __m256i lo = _mm256_and_si256(v, nibble);
+    __m256i hi = _mm256_and_si256(_mm256_srli_epi16(v, 4), nibble);
+    return _mm256_or_si256(
+        _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(nibble_reversed_high()), lo),
+        _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(nibble_reversed_low()), hi));
+}
+
+/// laine_karras_epi32 of 8 lanes.
+inline __m256i laine_karras_epi32(__m256i x, __m256i seed) {
+    __m256i mul = _mm256_or_si256(_mm256_srli_epi32(seed, 16), _mm256_set1_epi32(1));
+    x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(int32_t(kLaineKarrasMul[0]))));
+    x = _mm256_add_epi32(x, seed);
+    x = _mm256_mullo_epi32(x, mul);
+    x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(int32_t(kLaineKarrasMul[1]))));
+    x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(int32_t(kLaineKarrasMul[2]))));
+    return x;
+}
+
+/// u32_to_unit_float of 8 lanes, as unit_float_epi32x2 with 4 lanes per double vector.
+inline __m256 unit_float_epi32x8(__m256i v) {
+    v = _mm256_xor_si256(v, _mm256_set1_epi32(int32_t(0x80000000u)));
+    const __m256d two31 = _mm256_set1_pd(2147483648.0);
+    const __m256d mask = _mm256_castsi256_pd(_mm256_set1_epi64x(~int64_t(0x1fffffff)));
+    const __m256d scale = _mm256_set1_pd(0x1p-32);
+    __m256d d0 = _mm256_add_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(v)), two31);
+    __m256d d1 = _mm256_add_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(v, 1)), two31);
+    __m128 f0 = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_and_pd(d0, mask), scale));
+    __m128 f1 = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_and_pd(d1, mask), scale));
+    return _mm256_set_m128(f1, f0);
+}
+
+/// sobol_1d_float of the 8 lanes of a, with one seed.
+inline __m256 sobol_1d_float_epi32x8(__m256i a, Randomization r, uint32_t seed) {
+    const __m256i s = _mm256_set1_epi32(int32_t(seed));
+    if (r == Randomization::kOwen) a = laine_karras_epi32(a, s);
+    a = reverse_bits_epi32(a);
+    if (r == Randomization::kXor) a = _mm256_xor_si256(a, s);
+    return unit_float_epi32x8(a);
+}
+#endif
 
 /// sobol_2d_float with (a, y_digits) in lanes 0 and 1 of v.
 inline Point2 sobol_2d_float_epi32(__m128i v, Randomization r, uint64_t key) {
