@@ -54,6 +54,34 @@ void BM_RayCastShadow(benchmark::State& state) {
 }
 BENCHMARK(BM_RayCastShadow);
 
+// A pixel's camera rays (8 samples within the gaussian filter's 1.5-pixel radius) traced one
+// by one (arg 0) or as one packet (arg 1, what the renderer does).
+void BM_CameraRayPacket(benchmark::State& state) {
+    const Scene& s = cornell();
+    constexpr int kN = Scene::kRayPacket;
+    Pcg32 rng(1, 2);
+    std::vector<Ray> rays(kN * 512);
+    for (int p = 0; p < 512; ++p) {
+        Float x = 512 * rng.next_float(), y = 512 * rng.next_float();
+        for (int k = 0; k < kN; ++k)
+            rays[kN * p + k] = s.camera->generate_ray(
+                Point2(x + 3 * rng.next_float() - 1.5f, y + 3 * rng.next_float() - 1.5f),
+                Point2(0.5f, 0.5f));
+    }
+    size_t p = 0;
+    SurfaceHit h[kN];
+    for (auto _ : state) {
+        const Ray* r = &rays[kN * (p++ & 511)];
+        if (state.range(0)) {
+            benchmark::DoNotOptimize(s.intersect_packet(r, (1u << kN) - 1, h));
+        } else {
+            for (int k = 0; k < kN; ++k) benchmark::DoNotOptimize(s.intersect(r[k], h[k]));
+        }
+    }
+    state.SetItemsProcessed(kN * state.iterations());
+}
+BENCHMARK(BM_CameraRayPacket)->Arg(0)->Arg(1);
+
 void BM_LambertSample(benchmark::State& state) {
     Pcg32 rng;
     LambertLobe l{SampledSpectrum(0.5f)};

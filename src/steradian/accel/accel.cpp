@@ -313,6 +313,49 @@ bool Accel::intersect(const Ray& ray, SurfaceHit& h) const {
     return true;
 }
 
+unsigned Accel::intersect_packet(const Ray* rays, unsigned active, SurfaceHit* hits) const {
+    static_assert(kPacket == 8, "rtcIntersect8");
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) RTCRayHit8 rh;
+    alignas(32) int valid[8];
+    for (int i = 0; i < 8; ++i) {
+        const bool on = (active >> i) & 1;
+        valid[i] = on ? -1 : 0;
+        const Ray& r = rays[on ? i : 0];
+        rh.ray.org_x[i] = r.o.x;
+        rh.ray.org_y[i] = r.o.y;
+        rh.ray.org_z[i] = r.o.z;
+        rh.ray.dir_x[i] = r.d.x;
+        rh.ray.dir_y[i] = r.d.y;
+        rh.ray.dir_z[i] = r.d.z;
+        rh.ray.tnear[i] = 0;
+        rh.ray.tfar[i] = r.t_max;
+        rh.ray.time[i] = 0;
+        rh.ray.mask[i] = 0xFFFFFFFF;
+        rh.ray.id[i] = 0;
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, m->top, &ctx, &rh);
+    unsigned hit_mask = 0;
+    for (int i = 0; i < 8; ++i) {
+        if (!((active >> i) & 1) || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        RTCRayHit one;
+        one.ray.tfar = rh.ray.tfar[i];
+        one.hit.u = rh.hit.u[i];
+        one.hit.v = rh.hit.v[i];
+        one.hit.primID = rh.hit.primID[i];
+        one.hit.geomID = rh.hit.geomID[i];
+        one.hit.instID[0] = rh.hit.instID[0][i];
+        m->fill(one, rays[i], hits[i]);
+        hit_mask |= 1u << i;
+    }
+    return hit_mask;
+}
+
 bool Accel::occluded(const Ray& ray) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);

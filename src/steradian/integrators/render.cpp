@@ -137,6 +137,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     const Filter& filter = *scene.filter;
     const bool thin_lens = camera.uses_lens_sample();
     constexpr int kTile = 16;
+    // The camera's dimensions after the pixel dimensions: the lens sample.
+    constexpr int kCameraDimensions = 2;
 
     // Passes exist for the time budget: whole passes of 1, 2, 4, ... up to 64 samples per
     // pixel, so that stopping early still leaves an image of evenly many samples. Without a
@@ -158,32 +160,51 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     }
                     ThreadState& ts = states.local();
                     Sampler& sampler = *ts.sampler;
+                    // A pixel's camera rays are traced as packets of kRayPacket (they are
+                    // coherent, and a packet costs far less than its rays one by one); each
+                    // path then continues from its first hit, taking the sampler's
+                    // dimensions after the camera's, so the image is the same as with
+                    // one ray at a time.
+                    constexpr int kPacket = Scene::kRayPacket;
+                    Ray rays[kPacket];
+                    SurfaceHit hits[kPacket];
+                    FilterSample fss[kPacket];
+                    SampledWavelengths lambdas[kPacket];
                     for (int y = r.rows().begin(); y < r.rows().end(); ++y)
                         for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
-                            sampler.start_pixel(Vec2i(x, y), s0, s1);
-                            for (int si = s0; si < s1; ++si) {
-                                sampler.start_pixel_sample(Vec2i(x, y), si);
-                                Point2 up = sampler.get_pixel_2d();
-                                FilterSample fs = filter.sample(up);
-                                Float ul = sampler.get_pixel_1d();
-                                SampledWavelengths lambda = SampledWavelengths::sample_visible(ul);
-                                // The lens dimensions are consumed either way, so that
-                                // the path's dimensions do not depend on the camera.
-                                Point2 u_lens(0.5f, 0.5f);
-                                if (thin_lens)
-                                    u_lens = sampler.get_2d();
-                                else
-                                    sampler.skip_2d();
-                                Point2 p_film(Float(x) + 0.5f + fs.offset.x,
-                                              Float(y) + 0.5f + fs.offset.y);
-                                Ray ray = camera.generate_ray(p_film, u_lens);
-                                SampledSpectrum L = path_li(scene, ray, lambda, sampler, ts.counters);
-                                if (L.has_nonfinite()) {
-                                    ++ts.nonfinite;
-                                    L = SampledSpectrum(0);
+                            const Vec2i pixel(x, y);
+                            sampler.start_pixel(pixel, s0, s1);
+                            for (int sb = s0; sb < s1; sb += kPacket) {
+                                const int n = std::min(kPacket, s1 - sb);
+                                for (int k = 0; k < n; ++k) {
+                                    sampler.start_pixel_sample(pixel, sb + k);
+                                    Point2 up = sampler.get_pixel_2d();
+                                    fss[k] = filter.sample(up);
+                                    lambdas[k] = SampledWavelengths::sample_visible(
+                                        sampler.get_pixel_1d());
+                                    // The lens dimensions are consumed either way, so that
+                                    // the path's dimensions do not depend on the camera.
+                                    Point2 u_lens(0.5f, 0.5f);
+                                    if (thin_lens) u_lens = sampler.get_2d();
+                                    Point2 p_film(Float(x) + 0.5f + fss[k].offset.x,
+                                                  Float(y) + 0.5f + fss[k].offset.y);
+                                    rays[k] = camera.generate_ray(p_film, u_lens);
                                 }
-                                ++ts.paths;
-                                film.add(pass, x, y, film.to_sensor(L, lambda), fs.weight);
+                                const unsigned found =
+                                    scene.intersect_packet(rays, (1u << n) - 1, hits);
+                                for (int k = 0; k < n; ++k) {
+                                    sampler.start_pixel_sample(pixel, sb + k, kCameraDimensions);
+                                    SampledSpectrum L =
+                                        path_li_from(scene, rays[k], (found >> k) & 1, hits[k],
+                                                     lambdas[k], sampler, ts.counters);
+                                    if (L.has_nonfinite()) {
+                                        ++ts.nonfinite;
+                                        L = SampledSpectrum(0);
+                                    }
+                                    ++ts.paths;
+                                    film.add(pass, x, y, film.to_sensor(L, lambdas[k]),
+                                             fss[k].weight);
+                                }
                             }
                         }
                     progress.add(uint64_t(r.rows().size()) * r.cols().size() * (s1 - s0));

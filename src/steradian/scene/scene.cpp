@@ -22,4 +22,9 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& h) const { return m_accel->int
 
 bool Scene::occluded(const Ray& ray) const { return m_accel->occluded(ray); }
 
+unsigned Scene::intersect_packet(const Ray* rays, unsigned active, SurfaceHit* hits) const {
+    static_assert(kRayPacket == Accel::kPacket);
+    return m_accel->intersect_packet(rays, active, hits);
+}
+
 }  // namespace sr

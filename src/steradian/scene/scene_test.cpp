@@ -65,5 +65,48 @@ TEST(SceneIntersect, WritesEveryFieldOfTheHit) {
     }
 }
 
+// A packet of rays finds what the rays find one by one: the same hits, filled byte for byte
+// alike, and the same misses; inactive lanes are neither traced nor written. Rays fan out
+// from one point over every kind of shape (meshes, sphere, disk, instance) and past them.
+TEST(SceneIntersect, PacketFindsWhatSingleRaysFind) {
+    Scene s = build_scene(parse_pbrt_string(kScene, "<test>"));
+    constexpr int kN = Scene::kRayPacket;
+    for (int round = 0; round < 8; ++round) {
+        Ray rays[kN];
+        // At the five shapes and between and beyond them, moved a little each round.
+        const Float targets[8] = {-9, -5, 0, 5, 9, -12, 12, 2.5f};
+        static_assert(kN <= 8);
+        for (int i = 0; i < kN; ++i) {
+            Float x = targets[i] + 0.05f * Float(round);
+            Point3 o(x * 0.5f, 0.02f * Float(round), 10);
+            rays[i] = Ray{o, normalize(Point3(x, 0.1f, 0) - o), kInfinity};
+        }
+        const unsigned active = round == 0 ? (1u << kN) - 1 : 0x5du ^ (round * 37u);
+        SurfaceHit packet[kN];
+        std::memset(static_cast<void*>(packet), 0xab, sizeof packet);
+        const unsigned found = s.intersect_packet(rays, active & ((1u << kN) - 1), packet);
+        int hits = 0;
+        for (int i = 0; i < kN; ++i) {
+            SurfaceHit single;
+            bool on = (active >> i) & 1;
+            bool hit = s.intersect(rays[i], single);
+            if (!on) {
+                EXPECT_FALSE((found >> i) & 1) << "inactive lane " << i;
+                unsigned char untouched[sizeof(SurfaceHit)];
+                std::memset(untouched, 0xab, sizeof untouched);
+                EXPECT_EQ(std::memcmp(&packet[i], untouched, sizeof untouched), 0) << i;
+                continue;
+            }
+            ASSERT_EQ(bool((found >> i) & 1), hit) << "round " << round << " ray " << i;
+            if (hit) {
+                ++hits;
+                EXPECT_EQ(std::memcmp(&packet[i], &single, sizeof single), 0)
+                    << "round " << round << " ray " << i << " shape " << single.shape;
+            }
+        }
+        if (round == 0) EXPECT_EQ(hits, 5) << "the full packet should hit all five shapes";
+    }
+}
+
 }  // namespace
 }  // namespace sr

@@ -46,9 +46,15 @@ public:
         // One hit record for the whole path: Scene::intersect writes every field of it, and a
         // fresh one per segment cost a 136-byte zero fill (rep stos) each time.
         SurfaceHit hit;
+        ++m_counters.rays;
+        trace(ray, m_scene.intersect(ray, hit), hit);
+    }
+
+    /// Follows `ray`, whose first intersection is `hit` if `found`, until the path ends
+    /// (`hit` is the path's hit record).
+    void trace(Ray ray, bool found, SurfaceHit& hit) {
         while (true) {
-            ++m_counters.rays;
-            if (!m_scene.intersect(ray, hit)) {
+            if (!found) {
                 escaped(ray);
                 return;
             }
@@ -63,9 +69,11 @@ public:
                 // in case a degenerate surface keeps returning the same hit).
                 if (++m_interface_crossings > 256) return;
                 ray = spawn_ray(hit, ray.d);
-                continue;
+            } else if (!scatter(hit, *bsdf, ray)) {
+                return;
             }
-            if (!scatter(hit, *bsdf, ray)) return;
+            ++m_counters.rays;
+            found = m_scene.intersect(ray, hit);
         }
     }
 
@@ -198,6 +206,15 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
                         PathCounters& counters, const PathLimits& limits) {
     PathState path(scene, lambda, sampler, counters, limits);
     path.trace(ray);
+    return path.L;
+}
+
+SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
+                             SampledWavelengths& lambda, Sampler& sampler,
+                             PathCounters& counters, const PathLimits& limits) {
+    PathState path(scene, lambda, sampler, counters, limits);
+    ++counters.rays;
+    path.trace(ray, found, hit);
     return path.L;
 }
 

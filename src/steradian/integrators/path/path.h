@@ -40,6 +40,13 @@ struct PathLimits {
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
                         PathCounters& counters, const PathLimits& limits = {});
 
+/// path_li() for a ray whose first intersection the caller has already found (camera rays
+/// traced as packets): `hit` is that intersection if `found`, and is the path's hit record
+/// from then on. Same result as path_li(scene, ray, ...).
+SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
+                             SampledWavelengths& lambda, Sampler& sampler,
+                             PathCounters& counters, const PathLimits& limits = {});
+
 /// Radiance leaving `vertex` towards vertex.wo, scattered by `bsdf` there (a surface the
 /// scene does not contain, e.g. a meter's ideal Lambertian receiver): the path starts with
 /// that vertex's light and BSDF samples.
