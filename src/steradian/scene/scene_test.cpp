@@ -104,7 +104,9 @@ TEST(SceneIntersect, PacketFindsWhatSingleRaysFind) {
                     << "round " << round << " ray " << i << " shape " << single.shape;
             }
         }
-        if (round == 0) EXPECT_EQ(hits, 5) << "the full packet should hit all five shapes";
+        if (round == 0) {
+            EXPECT_EQ(hits, 5) << "the full packet should hit all five shapes";
+        }
     }
 }
 
