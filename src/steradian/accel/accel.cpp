@@ -356,6 +356,36 @@ unsigned Accel::intersect_packet(const Ray* rays, unsigned active, SurfaceHit* h
     return hit_mask;
 }
 
+unsigned Accel::occluded_packet(const Ray* rays, unsigned active) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) RTCRay8 r8;
+    alignas(32) int valid[8];
+    for (int i = 0; i < 8; ++i) {
+        const bool on = (active >> i) & 1;
+        valid[i] = on ? -1 : 0;
+        const Ray& r = rays[on ? i : 0];
+        r8.org_x[i] = r.o.x;
+        r8.org_y[i] = r.o.y;
+        r8.org_z[i] = r.o.z;
+        r8.dir_x[i] = r.d.x;
+        r8.dir_y[i] = r.d.y;
+        r8.dir_z[i] = r.d.z;
+        r8.tnear[i] = 0;
+        r8.tfar[i] = r.t_max;
+        r8.time[i] = 0;
+        r8.mask[i] = 0xFFFFFFFF;
+        r8.id[i] = 0;
+        r8.flags[i] = 0;
+    }
+    rtcOccluded8(valid, m->top, &ctx, &r8);
+    unsigned blocked = 0;
+    for (int i = 0; i < 8; ++i)
+        if (((active >> i) & 1) && r8.tfar[i] < 0) blocked |= 1u << i;
+    return blocked;
+}
+
 bool Accel::occluded(const Ray& ray) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);

@@ -26,6 +26,9 @@ public:
     /// costs much less than one intersect() per ray.
     static constexpr int kPacket = 8;
     unsigned intersect_packet(const Ray* rays, unsigned active, SurfaceHit* hits) const;
+    /// occluded() for up to kPacket rays (the bits of `active`) as one packet; returns the
+    /// bits of the rays that are blocked.
+    unsigned occluded_packet(const Ray* rays, unsigned active) const;
     Bounds3 bounds() const;
 
 private:

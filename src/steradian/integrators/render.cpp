@@ -170,6 +170,9 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     SurfaceHit hits[kPacket];
                     FilterSample fss[kPacket];
                     SampledWavelengths lambdas[kPacket];
+                    SampledSpectrum Ls[kPacket];
+                    DeferredShadowRay shadows[kPacket];
+                    Ray shadow_rays[kPacket];
                     for (int y = r.rows().begin(); y < r.rows().end(); ++y)
                         for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
                             const Vec2i pixel(x, y);
@@ -192,11 +195,25 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                                 }
                                 const unsigned found =
                                     scene.intersect_packet(rays, (1u << n) - 1, hits);
+                                // The first vertices' shadow rays start close together
+                                // and aim at the same lights: tested as one packet after
+                                // the paths, which do not depend on them.
                                 for (int k = 0; k < n; ++k) {
                                     sampler.start_pixel_sample(pixel, sb + k, kCameraDimensions);
-                                    SampledSpectrum L =
-                                        path_li_from(scene, rays[k], (found >> k) & 1, hits[k],
-                                                     lambdas[k], sampler, ts.counters);
+                                    Ls[k] = path_li_from(scene, rays[k], (found >> k) & 1,
+                                                         hits[k], lambdas[k], sampler,
+                                                         ts.counters, &shadows[k]);
+                                    shadow_rays[k] = shadows[k].ray;
+                                }
+                                unsigned pending = 0;
+                                for (int k = 0; k < n; ++k)
+                                    pending |= unsigned(shadows[k].pending) << k;
+                                const unsigned blocked =
+                                    pending ? scene.occluded_packet(shadow_rays, pending) : 0;
+                                for (int k = 0; k < n; ++k) {
+                                    SampledSpectrum L = Ls[k];
+                                    if (((pending & ~blocked) >> k) & 1)
+                                        L += shadows[k].contribution;
                                     if (L.has_nonfinite()) {
                                         ++ts.nonfinite;
                                         L = SampledSpectrum(0);

@@ -27,4 +27,8 @@ unsigned Scene::intersect_packet(const Ray* rays, unsigned active, SurfaceHit* h
     return m_accel->intersect_packet(rays, active, hits);
 }
 
+unsigned Scene::occluded_packet(const Ray* rays, unsigned active) const {
+    return m_accel->occluded_packet(rays, active);
+}
+
 }  // namespace sr

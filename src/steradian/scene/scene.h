@@ -99,6 +99,9 @@ public:
     /// rays, such as a pixel's camera rays, far cheaper per ray than intersect().
     static constexpr int kRayPacket = 8;
     unsigned intersect_packet(const Ray* rays, unsigned active, SurfaceHit* hits) const;
+    /// occluded() for up to kRayPacket rays at once (the bits of `active`); returns the bits
+    /// of the blocked ones.
+    unsigned occluded_packet(const Ray* rays, unsigned active) const;
     MaterialContext material_context() const {
         return {&spectrum_textures, &float_textures, &materials};
     }

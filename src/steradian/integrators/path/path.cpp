@@ -41,6 +41,9 @@ public:
 
     SampledSpectrum L{0};
 
+    /// Leaves the first vertex's light sample in `d`, its shadow ray untested (path_li_from).
+    void defer_first_shadow(DeferredShadowRay* d) { m_first_shadow = d; }
+
     /// Follows `ray` until the path ends.
     void trace(Ray ray) {
         // One hit record for the whole path: Scene::intersect writes every field of it, and a
@@ -174,12 +177,21 @@ private:
         else
             shadow = spawn_ray_between(hit, ls->p_light, ls->p_error, ls->n_light);
         ++m_counters.rays;
-        if (m_scene.occluded(shadow)) return;
+        const bool defer = m_first_shadow && m_depth == 1;
+        if (!defer && m_scene.occluded(shadow)) return;
         Float p_l = pmf * ls->pdf_sa;
         Float w_over_p = (ls->delta || !m_use_bsdf_hits) ? 1 / p_l
                                                          : power_heuristic_over_pdf(p_l, ev.pdf_sa);
-        L += m_beta * f * ls->L * w_over_p;
+        SampledSpectrum c = m_beta * f * ls->L * w_over_p;
+        if (defer) {
+            m_first_shadow->pending = true;
+            m_first_shadow->ray = shadow;
+            m_first_shadow->contribution = c;
+        } else {
+            L += c;
+        }
     }
+
 
     const Scene& m_scene;
     const IntegratorSettings& m_cfg;
@@ -198,6 +210,7 @@ private:
     LightSampleContext m_prev_ctx;
     int m_depth = 0;
     int m_interface_crossings = 0;
+    DeferredShadowRay* m_first_shadow = nullptr;
 };
 
 }  // namespace
@@ -211,8 +224,10 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
 
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
                              SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, const PathLimits& limits) {
-    PathState path(scene, lambda, sampler, counters, limits);
+                             PathCounters& counters, DeferredShadowRay* first_shadow) {
+    PathState path(scene, lambda, sampler, counters, PathLimits{});
+    if (first_shadow) first_shadow->pending = false;
+    path.defer_first_shadow(first_shadow);
     ++counters.rays;
     path.trace(ray, found, hit);
     return path.L;

@@ -40,12 +40,24 @@ struct PathLimits {
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
                         PathCounters& counters, const PathLimits& limits = {});
 
+/// The light sample of a path's first scattering vertex, whose shadow ray the caller tests:
+/// `contribution` belongs to the path's radiance if `ray` is not blocked. (The renderer tests
+/// those of a pixel's paths, which start close together and aim at the same lights, as one
+/// packet.)
+struct DeferredShadowRay {
+    bool pending = false;
+    Ray ray;
+    SampledSpectrum contribution{0};
+};
+
 /// path_li() for a ray whose first intersection the caller has already found (camera rays
 /// traced as packets): `hit` is that intersection if `found`, and is the path's hit record
-/// from then on. Same result as path_li(scene, ray, ...).
+/// from then on. With `first_shadow`, the first vertex's light sample is left to the caller
+/// there (pending if it has a shadow ray to test) instead of being tested and added. The sum
+/// of the result and an unblocked deferred contribution is path_li(scene, ray, ...).
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
                              SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, const PathLimits& limits = {});
+                             PathCounters& counters, DeferredShadowRay* first_shadow = nullptr);
 
 /// Radiance leaving `vertex` towards vertex.wo, scattered by `bsdf` there (a surface the
 /// scene does not contain, e.g. a meter's ideal Lambertian receiver): the path starts with
