@@ -82,6 +82,42 @@ void BM_CameraRayPacket(benchmark::State& state) {
 }
 BENCHMARK(BM_CameraRayPacket)->Arg(0)->Arg(1);
 
+// The first bounce of a pixel's 8 paths: rays from their (nearby) first hits in cosine-
+// distributed directions, one by one (arg 0) or as one packet (arg 1).
+void BM_FirstBouncePacket(benchmark::State& state) {
+    const Scene& s = cornell();
+    constexpr int kN = Scene::kRayPacket;
+    Pcg32 rng(1, 2);
+    std::vector<Ray> rays;
+    while (rays.size() < kN * 512) {
+        Float x = 512 * rng.next_float(), y = 512 * rng.next_float();
+        Ray cam[kN];
+        SurfaceHit h[kN];
+        for (int k = 0; k < kN; ++k)
+            cam[k] = s.camera->generate_ray(
+                Point2(x + 3 * rng.next_float() - 1.5f, y + 3 * rng.next_float() - 1.5f),
+                Point2(0.5f, 0.5f));
+        if (s.intersect_packet(cam, (1u << kN) - 1, h) != (1u << kN) - 1) continue;
+        for (int k = 0; k < kN; ++k) {
+            Frame f = Frame::from_z(h[k].ns);
+            Vec3 d = f.to_world(sample_cosine_hemisphere(Point2(rng.next_float(), rng.next_float())));
+            rays.push_back(spawn_ray(h[k], d));
+        }
+    }
+    size_t p = 0;
+    SurfaceHit h[kN];
+    for (auto _ : state) {
+        const Ray* r = &rays[kN * (p++ & 511)];
+        if (state.range(0)) {
+            benchmark::DoNotOptimize(s.intersect_packet(r, (1u << kN) - 1, h));
+        } else {
+            for (int k = 0; k < kN; ++k) benchmark::DoNotOptimize(s.intersect(r[k], h[k]));
+        }
+    }
+    state.SetItemsProcessed(kN * state.iterations());
+}
+BENCHMARK(BM_FirstBouncePacket)->Arg(0)->Arg(1);
+
 void BM_LambertSample(benchmark::State& state) {
     Pcg32 rng;
     LambertLobe l{SampledSpectrum(0.5f)};
