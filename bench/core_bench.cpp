@@ -118,6 +118,55 @@ void BM_FirstBouncePacket(benchmark::State& state) {
 }
 BENCHMARK(BM_FirstBouncePacket)->Arg(0)->Arg(1);
 
+// Shadow rays to the light: arg 0 = from a pixel's 8 first hits (as the renderer's first
+// vertices), 1 = from 8 second hits (the first bounce's hits: spread over the box); arg 1 =
+// one by one (0) or as one packet (1).
+void BM_ShadowPacket(benchmark::State& state) {
+    const Scene& s = cornell();
+    constexpr int kN = Scene::kRayPacket;
+    Pcg32 rng(1, 2);
+    auto lambda = SampledWavelengths::sample_visible(0.5f);
+    std::vector<Ray> rays;
+    while (rays.size() < kN * 512) {
+        Float x = 512 * rng.next_float(), y = 512 * rng.next_float();
+        Ray cam[kN];
+        SurfaceHit h[kN];
+        for (int k = 0; k < kN; ++k)
+            cam[k] = s.camera->generate_ray(
+                Point2(x + 3 * rng.next_float() - 1.5f, y + 3 * rng.next_float() - 1.5f),
+                Point2(0.5f, 0.5f));
+        if (s.intersect_packet(cam, (1u << kN) - 1, h) != (1u << kN) - 1) continue;
+        if (state.range(0) == 1) {
+            bool all = true;
+            for (int k = 0; k < kN && all; ++k) {
+                Frame f = Frame::from_z(h[k].ns);
+                Vec3 d = f.to_world(sample_cosine_hemisphere(Point2(rng.next_float(), rng.next_float())));
+                all = s.intersect(spawn_ray(h[k], d), h[k]);
+            }
+            if (!all) continue;
+        }
+        for (int k = 0; k < kN; ++k) {
+            Float pmf;
+            int li = s.light_sampler.sample(rng.next_float(), pmf);
+            LightSampleContext ctx{h[k].p, h[k].p_error, h[k].ng};
+            auto ls = sample_li(s.lights[li], ctx, Point2(rng.next_float(), rng.next_float()), lambda);
+            rays.push_back(ls ? spawn_ray_between(h[k], ls->p_light, ls->p_error, ls->n_light)
+                              : spawn_ray(h[k], h[k].ng));
+        }
+    }
+    size_t p = 0;
+    for (auto _ : state) {
+        const Ray* r = &rays[kN * (p++ & 511)];
+        if (state.range(1)) {
+            benchmark::DoNotOptimize(s.occluded_packet(r, (1u << kN) - 1));
+        } else {
+            for (int k = 0; k < kN; ++k) benchmark::DoNotOptimize(s.occluded(r[k]));
+        }
+    }
+    state.SetItemsProcessed(kN * state.iterations());
+}
+BENCHMARK(BM_ShadowPacket)->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1});
+
 void BM_LambertSample(benchmark::State& state) {
     Pcg32 rng;
     LambertLobe l{SampledSpectrum(0.5f)};
