@@ -61,7 +61,8 @@ public:
 private:
     FilmParams m_p;
     std::vector<PixelSum> m_pixels;
-    std::vector<std::array<Float, 3>> m_cmf;  ///< xbar, ybar, zbar at each nm from kLambdaMin
+    /// xbar, ybar, zbar (and a zero) at each nm from kLambdaMin: one vector load per row.
+    std::vector<Float4> m_cmf;
 };
 
 }  // namespace sr
