@@ -38,12 +38,72 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// Up to kSize camera samples of one pixel in flight together. A pixel's camera rays are
+/// coherent, and traced as one packet they cost far less than one by one; each path then
+/// continues from its first hit with the sampler's dimensions after the camera's, so the
+/// image is the one of tracing them one at a time. The paths' first vertices' shadow rays
+/// start close together and aim at the same lights: the paths leave them untested, nothing
+/// in a path depends on them, and they are tested as one packet afterwards.
+struct SamplePacket {
+    static constexpr int kSize = Scene::kRayPacket;
+    Ray rays[kSize];
+    SurfaceHit hits[kSize];
+    FilterSample filter[kSize];
+    SampledWavelengths lambda[kSize];
+    SampledSpectrum L[kSize];
+    DeferredShadowRay shadow[kSize];
+    Ray shadow_rays[kSize];
+};
+
 struct ThreadState {
     std::unique_ptr<Sampler> sampler;
     PathCounters counters;
     uint64_t paths = 0;
     uint64_t nonfinite = 0;
+    /// Scratch space of render_packet (kept per thread: its hit records are large).
+    std::unique_ptr<SamplePacket> packet = std::make_unique<SamplePacket>();
 };
+
+/// The camera's sample dimensions after the pixel dimensions: the lens sample, consumed
+/// whether or not the camera has a lens, so that a path's dimensions do not depend on it.
+constexpr int kCameraDimensions = 2;
+
+/// Samples [first, first + n) of `pixel` (n <= SamplePacket::kSize), added to `pass`.
+void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel,
+                   int first, int n, std::vector<PixelSum>& pass) {
+    Sampler& sampler = *ts.sampler;
+    SamplePacket& p = *ts.packet;
+    const bool thin_lens = scene.camera->uses_lens_sample();
+    for (int k = 0; k < n; ++k) {
+        sampler.start_pixel_sample(pixel, first + k);
+        p.filter[k] = scene.filter->sample(sampler.get_pixel_2d());
+        p.lambda[k] = SampledWavelengths::sample_visible(sampler.get_pixel_1d());
+        const Point2 u_lens = thin_lens ? sampler.get_2d() : Point2(0.5f, 0.5f);
+        const Point2 p_film(Float(pixel.x) + 0.5f + p.filter[k].offset.x,
+                            Float(pixel.y) + 0.5f + p.filter[k].offset.y);
+        p.rays[k] = scene.camera->generate_ray(p_film, u_lens);
+    }
+    const unsigned found = scene.intersect_packet(p.rays, (1u << n) - 1, p.hits);
+    unsigned pending = 0;
+    for (int k = 0; k < n; ++k) {
+        sampler.start_pixel_sample(pixel, first + k, kCameraDimensions);
+        p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k],
+                              sampler, ts.counters, &p.shadow[k]);
+        p.shadow_rays[k] = p.shadow[k].ray;
+        pending |= unsigned(p.shadow[k].pending) << k;
+    }
+    const unsigned lit = pending & ~(pending ? scene.occluded_packet(p.shadow_rays, pending) : 0);
+    for (int k = 0; k < n; ++k) {
+        SampledSpectrum L = p.L[k];
+        if ((lit >> k) & 1) L += p.shadow[k].contribution;
+        if (L.has_nonfinite()) {
+            ++ts.nonfinite;
+            L = SampledSpectrum(0);
+        }
+        ++ts.paths;
+        film.add(pass, pixel.x, pixel.y, film.to_sensor(L, p.lambda[k]), p.filter[k].weight);
+    }
+}
 
 /// Progress bar on stderr: percent, elapsed, ETA. Redrawn by its own thread.
 class Progress {
@@ -133,12 +193,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     std::atomic<bool> out_of_time{false};
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
 
-    const Camera& camera = *scene.camera;
-    const Filter& filter = *scene.filter;
-    const bool thin_lens = camera.uses_lens_sample();
     constexpr int kTile = 16;
-    // The camera's dimensions after the pixel dimensions: the lens sample.
-    constexpr int kCameraDimensions = 2;
 
     // Passes exist for the time budget: whole passes of 1, 2, 4, ... up to 64 samples per
     // pixel, so that stopping early still leaves an image of evenly many samples. Without a
@@ -160,69 +215,13 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     }
                     ThreadState& ts = states.local();
                     Sampler& sampler = *ts.sampler;
-                    // A pixel's camera rays are traced as packets of kRayPacket (they are
-                    // coherent, and a packet costs far less than its rays one by one); each
-                    // path then continues from its first hit, taking the sampler's
-                    // dimensions after the camera's, so the image is the same as with
-                    // one ray at a time.
-                    constexpr int kPacket = Scene::kRayPacket;
-                    Ray rays[kPacket];
-                    SurfaceHit hits[kPacket];
-                    FilterSample fss[kPacket];
-                    SampledWavelengths lambdas[kPacket];
-                    SampledSpectrum Ls[kPacket];
-                    DeferredShadowRay shadows[kPacket];
-                    Ray shadow_rays[kPacket];
                     for (int y = r.rows().begin(); y < r.rows().end(); ++y)
                         for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
                             const Vec2i pixel(x, y);
                             sampler.start_pixel(pixel, s0, s1);
-                            for (int sb = s0; sb < s1; sb += kPacket) {
-                                const int n = std::min(kPacket, s1 - sb);
-                                for (int k = 0; k < n; ++k) {
-                                    sampler.start_pixel_sample(pixel, sb + k);
-                                    Point2 up = sampler.get_pixel_2d();
-                                    fss[k] = filter.sample(up);
-                                    lambdas[k] = SampledWavelengths::sample_visible(
-                                        sampler.get_pixel_1d());
-                                    // The lens dimensions are consumed either way, so that
-                                    // the path's dimensions do not depend on the camera.
-                                    Point2 u_lens(0.5f, 0.5f);
-                                    if (thin_lens) u_lens = sampler.get_2d();
-                                    Point2 p_film(Float(x) + 0.5f + fss[k].offset.x,
-                                                  Float(y) + 0.5f + fss[k].offset.y);
-                                    rays[k] = camera.generate_ray(p_film, u_lens);
-                                }
-                                const unsigned found =
-                                    scene.intersect_packet(rays, (1u << n) - 1, hits);
-                                // The first vertices' shadow rays start close together
-                                // and aim at the same lights: tested as one packet after
-                                // the paths, which do not depend on them.
-                                for (int k = 0; k < n; ++k) {
-                                    sampler.start_pixel_sample(pixel, sb + k, kCameraDimensions);
-                                    Ls[k] = path_li_from(scene, rays[k], (found >> k) & 1,
-                                                         hits[k], lambdas[k], sampler,
-                                                         ts.counters, &shadows[k]);
-                                    shadow_rays[k] = shadows[k].ray;
-                                }
-                                unsigned pending = 0;
-                                for (int k = 0; k < n; ++k)
-                                    pending |= unsigned(shadows[k].pending) << k;
-                                const unsigned blocked =
-                                    pending ? scene.occluded_packet(shadow_rays, pending) : 0;
-                                for (int k = 0; k < n; ++k) {
-                                    SampledSpectrum L = Ls[k];
-                                    if (((pending & ~blocked) >> k) & 1)
-                                        L += shadows[k].contribution;
-                                    if (L.has_nonfinite()) {
-                                        ++ts.nonfinite;
-                                        L = SampledSpectrum(0);
-                                    }
-                                    ++ts.paths;
-                                    film.add(pass, x, y, film.to_sensor(L, lambdas[k]),
-                                             fss[k].weight);
-                                }
-                            }
+                            for (int sb = s0; sb < s1; sb += SamplePacket::kSize)
+                                render_packet(scene, film, ts, pixel, sb,
+                                              std::min(SamplePacket::kSize, s1 - sb), pass);
                         }
                     progress.add(uint64_t(r.rows().size()) * r.cols().size() * (s1 - s0));
                 });
