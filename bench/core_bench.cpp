@@ -54,98 +54,102 @@ void BM_RayCastShadow(benchmark::State& state) {
 }
 BENCHMARK(BM_RayCastShadow);
 
-// A pixel's camera rays (8 samples within the gaussian filter's 1.5-pixel radius) traced one
-// by one (arg 0) or as one packet (arg 1, what the renderer does).
-void BM_CameraRayPacket(benchmark::State& state) {
-    const Scene& s = cornell();
-    constexpr int kN = Scene::kRayPacket;
-    Pcg32 rng(1, 2);
-    std::vector<Ray> rays(kN * 512);
-    for (int p = 0; p < 512; ++p) {
-        Float x = 512 * rng.next_float(), y = 512 * rng.next_float();
-        for (int k = 0; k < kN; ++k)
-            rays[kN * p + k] = s.camera->generate_ray(
-                Point2(x + 3 * rng.next_float() - 1.5f, y + 3 * rng.next_float() - 1.5f),
-                Point2(0.5f, 0.5f));
-    }
-    size_t p = 0;
-    SurfaceHit h[kN];
+constexpr int kPacket = Scene::kRayPacket;
+
+/// The camera rays of kPacket samples of a random pixel, spread as the gaussian filter's
+/// 1.5-pixel radius spreads them.
+void pixel_camera_rays(const Scene& s, Pcg32& rng, Ray* rays) {
+    Float x = 512 * rng.next_float(), y = 512 * rng.next_float();
+    for (int k = 0; k < kPacket; ++k)
+        rays[k] = s.camera->generate_ray(
+            Point2(x + 3 * rng.next_float() - 1.5f, y + 3 * rng.next_float() - 1.5f),
+            Point2(0.5f, 0.5f));
+}
+
+/// The first hits of a random pixel's kPacket camera rays, if they all hit.
+bool pixel_first_hits(const Scene& s, Pcg32& rng, SurfaceHit* hits) {
+    Ray rays[kPacket];
+    pixel_camera_rays(s, rng, rays);
+    return s.intersect_packet(rays, (1u << kPacket) - 1, hits) == (1u << kPacket) - 1;
+}
+
+/// A cosine-distributed diffuse bounce from h.
+Ray diffuse_bounce(const SurfaceHit& h, Pcg32& rng) {
+    Vec3 d = Frame::from_z(h.ns).to_world(
+        sample_cosine_hemisphere(Point2(rng.next_float(), rng.next_float())));
+    return spawn_ray(h, d);
+}
+
+/// Times packets of kPacket rays (512 of them, in turn): `packet` for one packet at a time
+/// when `as_packet`, `single` for each ray of the packet otherwise.
+template <typename Single, typename Packet>
+void time_packets(benchmark::State& state, bool as_packet, const std::vector<Ray>& rays,
+                  Single single, Packet packet) {
+    size_t i = 0;
     for (auto _ : state) {
-        const Ray* r = &rays[kN * (p++ & 511)];
-        if (state.range(0)) {
-            benchmark::DoNotOptimize(s.intersect_packet(r, (1u << kN) - 1, h));
+        const Ray* r = &rays[kPacket * (i++ & 511)];
+        if (as_packet) {
+            packet(r);
         } else {
-            for (int k = 0; k < kN; ++k) benchmark::DoNotOptimize(s.intersect(r[k], h[k]));
+            for (int k = 0; k < kPacket; ++k) single(r[k], k);
         }
     }
-    state.SetItemsProcessed(kN * state.iterations());
+    state.SetItemsProcessed(kPacket * state.iterations());
+}
+
+/// time_packets of closest hits, as packets if the benchmark's first argument is not 0.
+void time_closest_hits(benchmark::State& state, const Scene& s, const std::vector<Ray>& rays) {
+    SurfaceHit h[kPacket];
+    time_packets(
+        state, state.range(0) != 0, rays,
+        [&](const Ray& r, int k) { benchmark::DoNotOptimize(s.intersect(r, h[k])); },
+        [&](const Ray* r) {
+            benchmark::DoNotOptimize(s.intersect_packet(r, (1u << kPacket) - 1, h));
+        });
+}
+
+// A pixel's camera rays traced one by one (arg 0) or as one packet (arg 1, what the
+// renderer does).
+void BM_CameraRayPacket(benchmark::State& state) {
+    const Scene& s = cornell();
+    Pcg32 rng(1, 2);
+    std::vector<Ray> rays(kPacket * 512);
+    for (int p = 0; p < 512; ++p) pixel_camera_rays(s, rng, &rays[kPacket * p]);
+    time_closest_hits(state, s, rays);
 }
 BENCHMARK(BM_CameraRayPacket)->Arg(0)->Arg(1);
 
-// The first bounce of a pixel's 8 paths: rays from their (nearby) first hits in cosine-
+// The first bounce of a pixel's paths: rays from their (nearby) first hits in cosine-
 // distributed directions, one by one (arg 0) or as one packet (arg 1).
 void BM_FirstBouncePacket(benchmark::State& state) {
     const Scene& s = cornell();
-    constexpr int kN = Scene::kRayPacket;
     Pcg32 rng(1, 2);
     std::vector<Ray> rays;
-    while (rays.size() < kN * 512) {
-        Float x = 512 * rng.next_float(), y = 512 * rng.next_float();
-        Ray cam[kN];
-        SurfaceHit h[kN];
-        for (int k = 0; k < kN; ++k)
-            cam[k] = s.camera->generate_ray(
-                Point2(x + 3 * rng.next_float() - 1.5f, y + 3 * rng.next_float() - 1.5f),
-                Point2(0.5f, 0.5f));
-        if (s.intersect_packet(cam, (1u << kN) - 1, h) != (1u << kN) - 1) continue;
-        for (int k = 0; k < kN; ++k) {
-            Frame f = Frame::from_z(h[k].ns);
-            Vec3 d = f.to_world(sample_cosine_hemisphere(Point2(rng.next_float(), rng.next_float())));
-            rays.push_back(spawn_ray(h[k], d));
-        }
+    SurfaceHit h[kPacket];
+    while (rays.size() < kPacket * 512) {
+        if (!pixel_first_hits(s, rng, h)) continue;
+        for (int k = 0; k < kPacket; ++k) rays.push_back(diffuse_bounce(h[k], rng));
     }
-    size_t p = 0;
-    SurfaceHit h[kN];
-    for (auto _ : state) {
-        const Ray* r = &rays[kN * (p++ & 511)];
-        if (state.range(0)) {
-            benchmark::DoNotOptimize(s.intersect_packet(r, (1u << kN) - 1, h));
-        } else {
-            for (int k = 0; k < kN; ++k) benchmark::DoNotOptimize(s.intersect(r[k], h[k]));
-        }
-    }
-    state.SetItemsProcessed(kN * state.iterations());
+    time_closest_hits(state, s, rays);
 }
 BENCHMARK(BM_FirstBouncePacket)->Arg(0)->Arg(1);
 
-// Shadow rays to the light: arg 0 = from a pixel's 8 first hits (as the renderer's first
-// vertices), 1 = from 8 second hits (the first bounce's hits: spread over the box); arg 1 =
+// Shadow rays to the light: first arg 0 = from a pixel's first hits (the renderer's first
+// vertices), 1 = from the hits of their diffuse bounces (spread over the box); second arg:
 // one by one (0) or as one packet (1).
 void BM_ShadowPacket(benchmark::State& state) {
     const Scene& s = cornell();
-    constexpr int kN = Scene::kRayPacket;
     Pcg32 rng(1, 2);
     auto lambda = SampledWavelengths::sample_visible(0.5f);
     std::vector<Ray> rays;
-    while (rays.size() < kN * 512) {
-        Float x = 512 * rng.next_float(), y = 512 * rng.next_float();
-        Ray cam[kN];
-        SurfaceHit h[kN];
-        for (int k = 0; k < kN; ++k)
-            cam[k] = s.camera->generate_ray(
-                Point2(x + 3 * rng.next_float() - 1.5f, y + 3 * rng.next_float() - 1.5f),
-                Point2(0.5f, 0.5f));
-        if (s.intersect_packet(cam, (1u << kN) - 1, h) != (1u << kN) - 1) continue;
-        if (state.range(0) == 1) {
-            bool all = true;
-            for (int k = 0; k < kN && all; ++k) {
-                Frame f = Frame::from_z(h[k].ns);
-                Vec3 d = f.to_world(sample_cosine_hemisphere(Point2(rng.next_float(), rng.next_float())));
-                all = s.intersect(spawn_ray(h[k], d), h[k]);
-            }
-            if (!all) continue;
-        }
-        for (int k = 0; k < kN; ++k) {
+    SurfaceHit h[kPacket];
+    while (rays.size() < kPacket * 512) {
+        if (!pixel_first_hits(s, rng, h)) continue;
+        bool all = true;
+        for (int k = 0; k < kPacket && all && state.range(0) == 1; ++k)
+            all = s.intersect(diffuse_bounce(h[k], rng), h[k]);
+        if (!all) continue;
+        for (int k = 0; k < kPacket; ++k) {
             Float pmf;
             int li = s.light_sampler.sample(rng.next_float(), pmf);
             LightSampleContext ctx{h[k].p, h[k].p_error, h[k].ng};
@@ -154,16 +158,10 @@ void BM_ShadowPacket(benchmark::State& state) {
                               : spawn_ray(h[k], h[k].ng));
         }
     }
-    size_t p = 0;
-    for (auto _ : state) {
-        const Ray* r = &rays[kN * (p++ & 511)];
-        if (state.range(1)) {
-            benchmark::DoNotOptimize(s.occluded_packet(r, (1u << kN) - 1));
-        } else {
-            for (int k = 0; k < kN; ++k) benchmark::DoNotOptimize(s.occluded(r[k]));
-        }
-    }
-    state.SetItemsProcessed(kN * state.iterations());
+    time_packets(
+        state, state.range(1) != 0, rays,
+        [&](const Ray& r, int) { benchmark::DoNotOptimize(s.occluded(r)); },
+        [&](const Ray* r) { benchmark::DoNotOptimize(s.occluded_packet(r, (1u << kPacket) - 1)); });
 }
 BENCHMARK(BM_ShadowPacket)->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1});
 

@@ -108,6 +108,28 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
     }
 }
 
+/// Embree's 8-ray packet of rays[i] for the bits i of `active` (the others invalid, filled
+/// with rays[0] so that no lane holds garbage).
+void put_packet(const Ray* rays, unsigned active, int* valid, RTCRay8& r8) {
+    for (int i = 0; i < 8; ++i) {
+        const bool on = (active >> i) & 1;
+        valid[i] = on ? -1 : 0;
+        const Ray& r = rays[on ? i : 0];
+        r8.org_x[i] = r.o.x;
+        r8.org_y[i] = r.o.y;
+        r8.org_z[i] = r.o.z;
+        r8.dir_x[i] = r.d.x;
+        r8.dir_y[i] = r.d.y;
+        r8.dir_z[i] = r.d.z;
+        r8.tnear[i] = 0;
+        r8.tfar[i] = r.t_max;
+        r8.time[i] = 0;
+        r8.mask[i] = 0xFFFFFFFF;
+        r8.id[i] = 0;
+        r8.flags[i] = 0;
+    }
+}
+
 void error_callback(void*, RTCError code, const char* str) {
     if (code == RTC_ERROR_NONE) return;
     std::fprintf(stderr, "embree error %d: %s\n", int(code), str ? str : "");
@@ -320,22 +342,8 @@ unsigned Accel::intersect_packet(const Ray* rays, unsigned active, SurfaceHit* h
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(32) RTCRayHit8 rh;
     alignas(32) int valid[8];
+    put_packet(rays, active, valid, rh.ray);
     for (int i = 0; i < 8; ++i) {
-        const bool on = (active >> i) & 1;
-        valid[i] = on ? -1 : 0;
-        const Ray& r = rays[on ? i : 0];
-        rh.ray.org_x[i] = r.o.x;
-        rh.ray.org_y[i] = r.o.y;
-        rh.ray.org_z[i] = r.o.z;
-        rh.ray.dir_x[i] = r.d.x;
-        rh.ray.dir_y[i] = r.d.y;
-        rh.ray.dir_z[i] = r.d.z;
-        rh.ray.tnear[i] = 0;
-        rh.ray.tfar[i] = r.t_max;
-        rh.ray.time[i] = 0;
-        rh.ray.mask[i] = 0xFFFFFFFF;
-        rh.ray.id[i] = 0;
-        rh.ray.flags[i] = 0;
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
@@ -362,23 +370,7 @@ unsigned Accel::occluded_packet(const Ray* rays, unsigned active) const {
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(32) RTCRay8 r8;
     alignas(32) int valid[8];
-    for (int i = 0; i < 8; ++i) {
-        const bool on = (active >> i) & 1;
-        valid[i] = on ? -1 : 0;
-        const Ray& r = rays[on ? i : 0];
-        r8.org_x[i] = r.o.x;
-        r8.org_y[i] = r.o.y;
-        r8.org_z[i] = r.o.z;
-        r8.dir_x[i] = r.d.x;
-        r8.dir_y[i] = r.d.y;
-        r8.dir_z[i] = r.d.z;
-        r8.tnear[i] = 0;
-        r8.tfar[i] = r.t_max;
-        r8.time[i] = 0;
-        r8.mask[i] = 0xFFFFFFFF;
-        r8.id[i] = 0;
-        r8.flags[i] = 0;
-    }
+    put_packet(rays, active, valid, r8);
     rtcOccluded8(valid, m->top, &ctx, &r8);
     unsigned blocked = 0;
     for (int i = 0; i < 8; ++i)
