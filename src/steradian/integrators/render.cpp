@@ -64,10 +64,6 @@ struct ThreadState {
     std::unique_ptr<SamplePacket> packet = std::make_unique<SamplePacket>();
 };
 
-/// The camera's sample dimensions after the pixel dimensions: the lens sample, consumed
-/// whether or not the camera has a lens, so that a path's dimensions do not depend on it.
-constexpr int kCameraDimensions = 2;
-
 /// Samples [first, first + n) of `pixel` (n <= SamplePacket::kSize), added to `pass`.
 void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel,
                    int first, int n, std::vector<PixelSum>& pass) {

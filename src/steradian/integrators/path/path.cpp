@@ -192,7 +192,6 @@ private:
         }
     }
 
-
     const Scene& m_scene;
     const IntegratorSettings& m_cfg;
     SampledWavelengths& m_lambda;

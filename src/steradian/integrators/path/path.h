@@ -40,6 +40,11 @@ struct PathLimits {
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
                         PathCounters& counters, const PathLimits& limits = {});
 
+/// The sample dimensions a camera ray takes after the pixel dimensions (Sampler's
+/// kPixelDimensions): the lens sample, taken whether or not the camera has a lens, so that a
+/// path's dimensions do not depend on the camera. A camera path's own dimensions start here.
+inline constexpr int kCameraDimensions = 2;
+
 /// The light sample of a path's first scattering vertex, whose shadow ray the caller tests:
 /// `contribution` belongs to the path's radiance if `ray` is not blocked. (The renderer tests
 /// those of a pixel's paths, which start close together and aim at the same lights, as one

@@ -40,7 +40,7 @@ TEST(PathLiFrom, PacketsAndADeferredFirstShadowRayGiveWhatPathLiGives) {
             for (int k = 0; k < kN; ++k) {
                 PathCounters counters;
                 SampledWavelengths lambda = lambdas[k];
-                sampler->start_pixel_sample(pixel, k, 2);
+                sampler->start_pixel_sample(pixel, k, kCameraDimensions);
                 from[k] = path_li_from(scene, rays[k], (found >> k) & 1, hits[k], lambda,
                                        *sampler, counters, &shadows[k]);
                 shadow_rays[k] = shadows[k].ray;
@@ -52,9 +52,9 @@ TEST(PathLiFrom, PacketsAndADeferredFirstShadowRayGiveWhatPathLiGives) {
                 // it counts one ray more than path_li_from without one.
                 PathCounters plain_counters, from_counters;
                 SampledWavelengths l1 = lambdas[k], l2 = lambdas[k];
-                sampler->start_pixel_sample(pixel, k, 2);
+                sampler->start_pixel_sample(pixel, k, kCameraDimensions);
                 SampledSpectrum plain = path_li(scene, rays[k], l1, *sampler, plain_counters);
-                sampler->start_pixel_sample(pixel, k, 2);
+                sampler->start_pixel_sample(pixel, k, kCameraDimensions);
                 SurfaceHit h;
                 bool f = scene.intersect(rays[k], h);
                 DeferredShadowRay d;
