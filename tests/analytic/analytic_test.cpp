@@ -45,6 +45,35 @@ Shape "sphere" "float radius" [ 1 ]
     EXPECT_EQ(r.stats.nonfinite, 0u);
 }
 
+// An emitter so bright (1e38, near the float range) that its radiance over the wavelength
+// pdfs overflows: every sample is non-finite, so each is counted and dropped, and the image
+// holds no NaN or Inf (it is black). At 1e36 the same emitter's samples are all finite and
+// the image is its radiance (the sRGB of rgb L = (1, 1, 1) scaled: every channel near 1e36).
+TEST(Analytic, OverflowingSamplesAreCountedAndNeverReachTheImage) {
+    auto scene = [](const char* l) {
+        return fmt::format(R"(
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 30 ]
+Film "rgb" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ] "string filename" "x.exr"
+Sampler "independent" "integer pixelsamples" [ 4 ]
+WorldBegin
+AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ]
+Shape "disk" "float radius" [ 10 ]
+)",
+                           l);
+    };
+    Rendered huge = render_string(scene("1e38"));
+    EXPECT_EQ(huge.stats.nonfinite, 4u * 4u * 4u);
+    for (float v : huge.rgb.data) EXPECT_TRUE(std::isfinite(v)) << v;
+    Rendered big = render_string(scene("1e36"));
+    EXPECT_EQ(big.stats.nonfinite, 0u);
+    for (float v : big.rgb.data) {
+        EXPECT_TRUE(std::isfinite(v));
+        EXPECT_GT(v, 1e35f);
+        EXPECT_LT(v, 1e37f);
+    }
+}
+
 // The same sphere, emitting Le = 0.5 inwards (ReverseOrientation), albedo 0.5:
 // L = Le + rho L  =>  L = Le / (1 - rho) = 1. The emission is given three ways that
 // pbrt-v4 defines to be equal: a flat spectrum with scale 0.5, "rgb L" [0.5 0.5 0.5]

@@ -108,8 +108,9 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
     }
 }
 
-/// Embree's 8-ray packet of rays[i] for the bits i of `active` (the others invalid, filled
-/// with rays[0] so that no lane holds garbage).
+/// Embree's 8-ray packet of rays[i] for the bits i of `active`; the other lanes are marked
+/// invalid (Embree does not trace them) and hold a copy of rays[0], so that every lane holds
+/// finite values.
 void put_packet(const Ray* rays, unsigned active, int* valid, RTCRay8& r8) {
     for (int i = 0; i < 8; ++i) {
         const bool on = (active >> i) & 1;

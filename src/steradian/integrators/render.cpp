@@ -1,8 +1,10 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
@@ -40,10 +42,13 @@ using Clock = std::chrono::steady_clock;
 
 /// Up to kSize camera samples of one pixel in flight together. A pixel's camera rays are
 /// coherent, and traced as one packet they cost far less than one by one; each path then
-/// continues from its first hit with the sampler's dimensions after the camera's, so the
-/// image is the one of tracing them one at a time. The paths' first vertices' shadow rays
-/// start close together and aim at the same lights: the paths leave them untested, nothing
-/// in a path depends on them, and they are tested as one packet afterwards.
+/// continues from its first hit with the sampler's dimensions after the camera's, so each
+/// sample's estimate is the one of tracing it alone (path_li), up to the order of a sum and
+/// to which of two coincident surfaces a camera ray reports (Embree's traversal order, which
+/// differs between packets and single rays, decides a tie in distance). The paths' first
+/// vertices' shadow rays start close together and aim at the same lights: the paths leave
+/// them untested, nothing in a path depends on them, and they are tested as one packet
+/// afterwards.
 struct SamplePacket {
     static constexpr int kSize = Scene::kRayPacket;
     Ray rays[kSize];
@@ -92,12 +97,21 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
     for (int k = 0; k < n; ++k) {
         SampledSpectrum L = p.L[k];
         if ((lit >> k) & 1) L += p.shadow[k].contribution;
-        if (L.has_nonfinite()) {
+        // A finite radiance near the float range can still overflow in its division by the
+        // wavelength pdfs: the sensor value is checked too, so that no NaN or Inf reaches
+        // the image uncounted.
+        std::array<double, 3> xyz{0, 0, 0};
+        bool finite = !L.has_nonfinite();
+        if (finite) {
+            xyz = film.to_sensor(L, p.lambda[k]);
+            finite = std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]);
+        }
+        if (!finite) {
             ++ts.nonfinite;
-            L = SampledSpectrum(0);
+            xyz = {0, 0, 0};
         }
         ++ts.paths;
-        film.add(pass, pixel.x, pixel.y, film.to_sensor(L, p.lambda[k]), p.filter[k].weight);
+        film.add(pass, pixel.x, pixel.y, xyz, p.filter[k].weight);
     }
 }
 

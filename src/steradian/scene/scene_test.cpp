@@ -66,8 +66,11 @@ TEST(SceneIntersect, WritesEveryFieldOfTheHit) {
 }
 
 // A packet of rays finds what the rays find one by one: the same hits, filled byte for byte
-// alike, and the same misses; inactive lanes are neither traced nor written. Rays fan out
-// from one point over every kind of shape (meshes, sphere, disk, instance) and past them.
+// alike, and the same misses; inactive lanes are neither traced nor written. The rays run
+// from above the scene down to every kind of shape (meshes, sphere, disk, instance) and past
+// them. (Where two surfaces are hit at exactly the same distance, which one a ray reports
+// depends on Embree's traversal order, and a packet's order differs from a single ray's; no
+// two surfaces here coincide.)
 TEST(SceneIntersect, PacketFindsWhatSingleRaysFind) {
     Scene s = build_scene(parse_pbrt_string(kScene, "<test>"));
     constexpr int kN = Scene::kRayPacket;
@@ -106,6 +109,45 @@ TEST(SceneIntersect, PacketFindsWhatSingleRaysFind) {
         }
         if (round == 0) {
             EXPECT_EQ(hits, 5) << "the full packet should hit all five shapes";
+        }
+    }
+}
+
+// A packet of shadow rays finds blocked what occluded() finds blocked, for every kind of
+// shape (meshes, sphere, disk, instance), for rays short of a shape and past it, in full and
+// partial packets; inactive lanes are never reported blocked.
+TEST(SceneIntersect, OccludedPacketAgreesWithOccluded) {
+    Scene s = build_scene(parse_pbrt_string(kScene, "<test>"));
+    constexpr int kN = Scene::kRayPacket;
+    const Float targets[8] = {-9, -5, 0, 5, 9, -12, 12, 2.5f};
+    for (int round = 0; round < 16; ++round) {
+        Ray rays[kN];
+        for (int i = 0; i < kN; ++i) {
+            Float x = targets[i] + 0.05f * Float(round);
+            Point3 o(x * 0.5f, 0.02f * Float(round), 10);
+            Vec3 d = normalize(Point3(x, 0.1f, 0) - o);
+            // Odd rounds stop 2 units above z = 0, short of every shape but the instanced
+            // sphere's top (z up to 0.8) and the curved mesh's (z up to 0.5): free.
+            Float t_max = (round & 1) ? (10 - 2) / -d.z : kInfinity;
+            rays[i] = Ray{o, d, t_max};
+        }
+        const unsigned active = round < 2 ? (1u << kN) - 1 : (0xb7u * unsigned(round)) & 0xffu;
+        const unsigned blocked = s.occluded_packet(rays, active);
+        for (int i = 0; i < kN; ++i) {
+            if (!((active >> i) & 1)) {
+                EXPECT_FALSE((blocked >> i) & 1) << "inactive lane " << i;
+                continue;
+            }
+            EXPECT_EQ(bool((blocked >> i) & 1), s.occluded(rays[i]))
+                << "round " << round << " ray " << i;
+        }
+        // The geometry's own answer for the full packets: the five rays aimed at the five
+        // shapes are blocked and the three aimed past them are not; the short ones all free.
+        if (round == 0) {
+            EXPECT_EQ(blocked, 0x1fu);
+        }
+        if (round == 1) {
+            EXPECT_EQ(blocked, 0u);
         }
     }
 }

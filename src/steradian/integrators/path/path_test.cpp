@@ -11,8 +11,10 @@ namespace {
 
 // The renderer's form of the estimator (camera rays traced as a packet, each path continued
 // from its first hit, the first vertices' shadow rays tested afterwards as one packet) is the
-// plain one, path_li(), summed in another order: per path the two agree to float rounding, and
-// a deferred contribution is pending exactly when the plain path tests a first shadow ray.
+// plain one, path_li(), summed in another order: per path the two agree to float rounding
+// (so a deferred contribution is neither lost nor counted twice), both trace as many rays (the
+// deferred shadow ray is one the plain path traces), and the packet's verdict on each deferred
+// shadow ray is occluded()'s.
 TEST(PathLiFrom, PacketsAndADeferredFirstShadowRayGiveWhatPathLiGives) {
     Scene scene = build_scene(
         parse_pbrt_file(std::string(STERADIAN_SOURCE_DIR) + "/scenes/cornell-box.pbrt"));
@@ -28,8 +30,8 @@ TEST(PathLiFrom, PacketsAndADeferredFirstShadowRayGiveWhatPathLiGives) {
                 sampler->start_pixel_sample(pixel, k);
                 Point2 up = sampler->get_pixel_2d();
                 lambdas[k] = SampledWavelengths::sample_visible(sampler->get_pixel_1d());
-                rays[k] = scene.camera->generate_ray(
-                    Point2(Float(px) + up.x, Float(py) + up.y), Point2(0.5f, 0.5f));
+                rays[k] = scene.camera->generate_ray(Point2(Float(px) + up.x, Float(py) + up.y),
+                                                     Point2(0.5f, 0.5f));
             }
             SurfaceHit hits[kN];
             const unsigned found = scene.intersect_packet(rays, (1u << kN) - 1, hits);
@@ -41,15 +43,15 @@ TEST(PathLiFrom, PacketsAndADeferredFirstShadowRayGiveWhatPathLiGives) {
                 PathCounters counters;
                 SampledWavelengths lambda = lambdas[k];
                 sampler->start_pixel_sample(pixel, k, kCameraDimensions);
-                from[k] = path_li_from(scene, rays[k], (found >> k) & 1, hits[k], lambda,
-                                       *sampler, counters, &shadows[k]);
+                from[k] = path_li_from(scene, rays[k], (found >> k) & 1, hits[k], lambda, *sampler,
+                                       counters, &shadows[k]);
                 shadow_rays[k] = shadows[k].ray;
                 pending |= unsigned(shadows[k].pending) << k;
             }
             const unsigned blocked = scene.occluded_packet(shadow_rays, pending);
             for (int k = 0; k < kN; ++k) {
-                // The plain estimator, and whether it tests a first shadow ray: it does if
-                // it counts one ray more than path_li_from without one.
+                // The plain estimator; and path_li_from from a single ray's first hit, which
+                // defers the same shadow ray as from the packet's.
                 PathCounters plain_counters, from_counters;
                 SampledWavelengths l1 = lambdas[k], l2 = lambdas[k];
                 sampler->start_pixel_sample(pixel, k, kCameraDimensions);
