@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git
+  python3                # scripts/check_layers.py and check_doc_examples.py (ctest)
   libembree-dev          # Embree 3: all ray queries
   libtbb-dev             # oneTBB: parallel tiles
   libopenimageio-dev     # image I/O (EXR, PNG, ...) and textures

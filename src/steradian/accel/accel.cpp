@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "steradian/core/error.h"
-#include "steradian/scene/scene.h"
 
 namespace sr {
 
@@ -258,15 +257,15 @@ struct Accel::Impl {
     }
 };
 
-Accel::Accel(const Scene& scene) : m(std::make_unique<Impl>()) {
-    m->shapes = scene.shapes.data();
-    m->instances = scene.instances.data();
+Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
+    m->shapes = geometry.shapes.data();
+    m->instances = geometry.instances.data();
     m->device = rtcNewDevice("verbose=0");
     if (!m->device) throw Error("could not create the Embree device");
     rtcSetDeviceErrorFunction(m->device, error_callback, nullptr);
 
     // Prototypes first: each its own Embree scene, instanced below.
-    for (const Prototype& proto : scene.prototypes) {
+    for (const Prototype& proto : geometry.prototypes) {
         RTCScene ps = rtcNewScene(m->device);
         rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
         std::vector<int> map;
@@ -282,13 +281,13 @@ Accel::Accel(const Scene& scene) : m(std::make_unique<Impl>()) {
 
     m->top = rtcNewScene(m->device);
     rtcSetSceneBuildQuality(m->top, RTC_BUILD_QUALITY_HIGH);
-    for (int si : scene.top_level_shapes) {
+    for (int si : geometry.top_level_shapes) {
         unsigned id = m->attach_shape(m->top, si);
         if (m->top_geom_shape.size() <= id) m->top_geom_shape.resize(id + 1, -1);
         m->top_geom_shape[id] = si;
     }
-    for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
-        const Instance& inst = scene.instances[ii];
+    for (size_t ii = 0; ii < geometry.instances.size(); ++ii) {
+        const Instance& inst = geometry.instances[ii];
         RTCGeometry g = rtcNewGeometry(m->device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, m->proto_scenes[inst.prototype]);
         float xfm[12];  // 3x4 column-major

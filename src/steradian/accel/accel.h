@@ -4,16 +4,16 @@
 #include <memory>
 
 #include "steradian/geometry/hit.h"
+#include "steradian/geometry/scene_geometry.h"
 
 namespace sr {
 
-class Scene;
-
 class Accel {
 public:
-    /// Builds Embree scenes for the top level and every prototype of `scene`, sharing the
-    /// meshes' vertex and index buffers. The scene's vectors must outlive the Accel.
-    explicit Accel(const Scene& scene);
+    /// Builds Embree scenes for the top level and every prototype of `geometry`, sharing
+    /// the meshes' vertex and index buffers. The vectors the view refers to must outlive the
+    /// Accel (their heap buffers, not the objects holding them: a Scene may be moved).
+    explicit Accel(const GeometryView& geometry);
     ~Accel();
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;

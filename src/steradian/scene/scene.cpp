@@ -12,7 +12,8 @@ Scene& Scene::operator=(Scene&&) noexcept = default;
 void Scene::finalize_geometry() {
     for (ShapeEntry& e : shapes)
         if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) mesh->cache_flat_frames();
-    m_accel = std::make_unique<Accel>(*this);
+    m_accel = std::make_unique<Accel>(
+        GeometryView{shapes, top_level_shapes, prototypes, instances});
     bounds = m_accel->bounds();
 }
 

@@ -9,7 +9,7 @@
 #include "steradian/camera/camera.h"
 #include "steradian/film/film.h"
 #include "steradian/film/filter.h"
-#include "steradian/geometry/shapes.h"
+#include "steradian/geometry/scene_geometry.h"
 #include "steradian/lights/light.h"
 #include "steradian/lights/light_sampler.h"
 #include "steradian/material/material.h"
@@ -18,25 +18,6 @@
 namespace sr {
 
 class Accel;
-
-using ShapeGeometry = std::variant<TriangleMesh, Sphere, Disk>;
-
-struct ShapeEntry {
-    ShapeGeometry geometry;
-    int material = -1;     ///< index into Scene::materials; -1 = interface
-    int light_offset = -1; ///< first light of this shape (one per triangle), or -1
-};
-
-/// ObjectBegin/ObjectEnd: shapes in their own space, instanced by Embree.
-struct Prototype {
-    std::string name;
-    std::vector<int> shapes;
-};
-
-struct Instance {
-    int prototype = -1;
-    Transform world_from_instance;
-};
 
 struct SamplerSettings {
     std::string type = "zsobol";

@@ -1,5 +1,5 @@
 #pragma once
-/// Spectral distributions as a std::variant of plain structs (see ARCHITECTURE.md §2).
+/// Spectral distributions as a std::variant of plain structs (see docs/architecture.md, "Dispatch").
 /// Wavelengths in nm. Reflectances are unitless; emission spectra are in the scene's
 /// radiance unit per nm (see docs/units.md).
 #include <concepts>
