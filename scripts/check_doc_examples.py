@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs the command examples of README.md and docs/*.md, so the documentation stays true.
+"""Runs the command examples of README.md, CONTRIBUTING.md and docs/*.md, so the documentation stays true.
 
 Every line of a code block (indented by four spaces, or fenced with ``` and no language or
 sh/bash/console/shell) that starts with `steradian` or `build/release/steradian` is a
@@ -24,7 +24,7 @@ import tempfile
 binary = pathlib.Path(sys.argv[1]).resolve()
 root = pathlib.Path(sys.argv[2] if len(sys.argv) > 2 else pathlib.Path(__file__).parent.parent)
 root = root.resolve()
-docs = [root / "README.md"] + sorted((root / "docs").glob("*.md"))
+docs = [root / "README.md", root / "CONTRIBUTING.md"] + sorted((root / "docs").glob("*.md"))
 runnable_fences = {"", "sh", "bash", "console", "shell"}
 
 
