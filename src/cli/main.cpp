@@ -3,12 +3,16 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "steradian/core/error.h"
+#include "steradian/core/output_file.h"
 #include "steradian/film/film.h"
 #include "steradian/film/falsecolor.h"
 #include "steradian/film/image_io.h"
@@ -35,12 +39,39 @@ std::string human_rate(double r) {
 }
 
 void write_text(const std::string& path, const std::string& text) {
-    if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty())
-        std::filesystem::create_directories(dir);
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-    if (!f) throw sr::Error(fmt::format("{}: cannot write", path));
+    sr::write_text_file(path, text);
 }
+
+/// A command-line number that must be finite (CLI11's range checks let NaN through).
+const CLI::Validator kFinite(
+    [](std::string& s) -> std::string {
+        try {
+            size_t used = 0;
+            double v = std::stod(s, &used);
+            if (used != s.size() || !std::isfinite(v)) return "must be a finite number";
+        } catch (const std::exception&) {
+            return "must be a finite number";
+        }
+        return "";
+    },
+    "FINITE");
+
+/// A seed: a decimal integer in [0, 2^64) (CLI11 wraps larger and negative values).
+const CLI::Validator kSeed(
+    [](std::string& s) -> std::string {
+        const char* err = "must be an integer from 0 to 18446744073709551615";
+        if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos) return err;
+        errno = 0;
+        char* end = nullptr;
+        std::strtoull(s.c_str(), &end, 10);
+        if (errno == ERANGE || *end != 0) return err;
+        return "";
+    },
+    "SEED");
+
+/// The most worker threads accepted: far more than any machine's cores, few enough that
+/// the thread pool and the per-thread state always fit.
+constexpr int kMaxThreads = 1024;
 
 /// The readings as a table on stdout.
 void print_readings(const sr::MeasureResult& r) {
@@ -114,6 +145,10 @@ int run_measure(const std::string& scene_path, const MeasureArgs& a, int threads
     sr::Scene scene = sr::build_scene(desc, {});
     if (scene.meters.empty())
         throw sr::Error(fmt::format("{}: the scene has no Meter directives", scene_path));
+    // Every output is checked before the measurement, not found unwritable after it.
+    if (!a.json.empty()) sr::check_output_path(a.json, "--json");
+    if (!a.csv.empty()) sr::check_output_path(a.csv, "--csv");
+    if (!a.falsecolor.empty()) sr::check_image_output(a.falsecolor);
     sr::MeasureOptions mo;
     mo.rel_error = a.rel_error;
     mo.time_budget = a.time_budget;
@@ -139,6 +174,13 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
     double load_wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (outs.empty()) outs.push_back(scene.film.filename);
+    // Every output is checked before rendering, not found unwritable after it.
+    for (const std::string& out : outs) sr::check_image_output(out);
+    if (!luminance_out.empty()) sr::check_image_output(luminance_out, 1);
+    if (!falsecolor_out.empty()) sr::check_image_output(falsecolor_out);
+    std::filesystem::path meters_json(outs.front());
+    meters_json.replace_extension(".meters.json");
+    if (!scene.meters.empty()) sr::check_output_path(meters_json.string(), "the meters' readings");
     sr::Film film(scene.film);
     sr::RenderOptions ro;
     ro.spp = spp;
@@ -199,12 +241,17 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
         sr::MeasureOptions mo;
         mo.threads = threads;
         mo.seed = seed;
+        if (time_budget > 0) {
+            // The budget covers the meters too: they get what the image left (at least their
+            // pilot round, so that every reading has a standard error).
+            double used =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+            mo.time_budget = std::max(time_budget - used, 1e-3);
+        }
         sr::MeasureResult r = sr::measure(scene, mo);
-        std::filesystem::path jp(outs.front());
-        jp.replace_extension(".meters.json");
-        write_text(jp.string(), sr::meters_json(r));
+        write_text(meters_json.string(), sr::meters_json(r));
         if (!quiet) {
-            std::fprintf(stderr, "steradian: wrote %s\n", jp.string().c_str());
+            std::fprintf(stderr, "steradian: wrote %s\n", meters_json.string().c_str());
             print_measure_summary(r);
         }
     }
@@ -235,12 +282,15 @@ int main(int argc, char** argv) {
     render->add_option("--spp", spp, "samples per pixel (default: the scene's Sampler)")
         ->check(CLI::PositiveNumber);
     render->add_option("--threads", threads, "worker threads (default: all cores)")
-        ->check(CLI::NonNegativeNumber);
-    render->add_option("--seed", seed, "random seed added to the scene's sampler seed");
+        ->check(CLI::Range(0, kMaxThreads));
+    render->add_option("--seed", seed, "random seed added to the scene's sampler seed")
+        ->check(kSeed);
     render->add_option("--time", time_budget,
-                       "time budget in seconds: stop after the last full pass within it")
-        ->check(CLI::NonNegativeNumber);
-    render->add_option("--exposure", exposure, "exposure in stops for 8-bit outputs (PNG)");
+                       "time budget in seconds: stop after the last full pass within it (at "
+                       "least one pass of 1 sample per pixel is always completed)")
+        ->check(kFinite & CLI::NonNegativeNumber);
+    render->add_option("--exposure", exposure, "exposure in stops for 8-bit outputs (PNG)")
+        ->check(kFinite & CLI::Range(-126.0, 127.0));
     render->add_flag("-q,--quiet", quiet, "no progress bar or summary");
     std::string luminance_out;
     render->add_option("--luminance", luminance_out,
@@ -261,13 +311,13 @@ int main(int argc, char** argv) {
     measure->add_option("--csv", margs.csv, "write the readings as CSV");
     measure->add_option("--rel-error", margs.rel_error,
                         "target relative standard error of every value (default 0.001)")
-        ->check(CLI::PositiveNumber);
+        ->check(kFinite & CLI::PositiveNumber);
     measure->add_option("--time", margs.time_budget,
                         "time budget in seconds: report what is reached by then")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFinite & CLI::NonNegativeNumber);
     measure->add_option("--threads", mthreads, "worker threads (default: all cores)")
-        ->check(CLI::NonNegativeNumber);
-    measure->add_option("--seed", mseed, "random seed");
+        ->check(CLI::Range(0, kMaxThreads));
+    measure->add_option("--seed", mseed, "random seed")->check(kSeed);
     measure->add_option("--falsecolor", margs.falsecolor,
                         "write false-colour images of the grid meters with a labelled scale (.png)");
     measure->add_flag("-q,--quiet", mquiet, "no summary on stderr");

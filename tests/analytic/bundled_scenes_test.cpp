@@ -55,8 +55,11 @@ TEST(BundledScenes, OfficeDirectIlluminanceIsTheInverseSquareSum) {
         EXPECT_NEAR(direct->values[i], e, 4 * direct->stderrs[i] + 1e-6 * e);
     }
     // Interreflections only add light: the desk's total exceeds its direct part.
-    for (const MeterReading& m : r.readings)
-        if (m.meter.name == "desk") EXPECT_GT(m.values[0], direct->values[0]);
+    for (const MeterReading& m : r.readings) {
+        if (m.meter.name == "desk") {
+            EXPECT_GT(m.values[0], direct->values[0]);
+        }
+    }
 }
 
 }  // namespace

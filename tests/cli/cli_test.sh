@@ -122,5 +122,77 @@ printf 'Camera "perspective"\nWorldBegin\nMeter "illuminance" "point3 p" [ 0 0 0
 check "bad meter exits non-zero" test $? -ne 0
 check "bad meter names file:line:col" grep -q "badm.pbrt:3:1" "$tmp/badm.txt"
 
+# ---- reliability: outputs are checked before rendering, written atomically, and checked ----
+# A slow scene (minutes at this spp), so that failing fast shows the check came first.
+slow=(render "$tmp/small.pbrt" --spp 1000000)
+start=$SECONDS
+"$bin" "${slow[@]}" -o "$tmp/out.xyz" > "$tmp/ext2.txt" 2>&1
+check "unknown extension fails before rendering" test $? -ne 0 -a $((SECONDS - start)) -lt 20
+check "unknown extension is named" grep -q 'unknown image format ".xyz"' "$tmp/ext2.txt"
+touch "$tmp/afile"
+start=$SECONDS
+"$bin" "${slow[@]}" -o "$tmp/afile/sub/x.exr" > "$tmp/dir.txt" 2>&1
+check "impossible output directory fails before rendering" test $? -ne 0 -a $((SECONDS - start)) -lt 20
+check "impossible output directory is named" grep -q "cannot create the directory" "$tmp/dir.txt"
+"$bin" "${slow[@]}" -o "$tmp/ok.exr" --luminance "$tmp/y.png" > "$tmp/lum.txt" 2>&1
+check "single-channel --luminance to PNG fails before rendering" test $? -ne 0
+"$bin" render "$tmp/small.pbrt" -o "$tmp/new/dir/x.exr" --quiet
+check "a missing output directory is created" test -s "$tmp/new/dir/x.exr"
+"$bin" measure "$tmp/meters.pbrt" --json "$tmp/afile/m.json" > "$tmp/mj.txt" 2>&1
+check "measure --json into an impossible directory fails" test $? -ne 0
+check "no temporary files are left behind" test -z "$(find "$tmp" -name '.*.tmp-*')"
+
+# Out-of-range and non-finite command-line values are errors.
+for args in "--threads 100000" "--threads -1" "--time nan" "--time inf" "--time -1" \
+            "--exposure nan" "--seed 18446744073709551616" "--seed -1"; do
+  # shellcheck disable=SC2086
+  "$bin" render "$tmp/small.pbrt" -o "$tmp/r.exr" $args --quiet > "$tmp/range.txt" 2>&1
+  check "render $args is rejected" test $? -ne 0
+done
+for args in "--rel-error nan" "--rel-error 0" "--time nan" "--threads 100000"; do
+  # shellcheck disable=SC2086
+  "$bin" measure "$tmp/meters.pbrt" $args --quiet > "$tmp/range.txt" 2>&1
+  check "measure $args is rejected" test $? -ne 0
+done
+
+# A --time shorter than one pass still renders the first pass (1 spp): not a black image.
+"$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1
+check "--time shorter than a pass exits 0" test $? -eq 0
+check "--time shorter than a pass says 1 sample per pixel" grep -q "samples/pixel   1 " "$tmp/short.txt"
+check "--time shorter than a pass writes a lit image" \
+  python3 -c "import sys,struct; d=open(sys.argv[1],'rb').read(); h=d.split(b'\n',3); v=struct.unpack('<%df'%((len(h[3]))//4), h[3]); sys.exit(0 if max(v)>0 else 1)" "$tmp/short.pfm"
+
+# Disk full: on a 64 KiB tmpfs an image that does not fit is an error, and the file that was
+# there before is intact (needs mount rights; skipped where there are none).
+mkdir -p "$tmp/small-fs"
+if mount -t tmpfs -o size=64k tmpfs "$tmp/small-fs" 2>/dev/null; then
+  "$bin" render "$tmp/small.pbrt" -o "$tmp/small-fs/keep.pfm" --quiet
+  cp "$tmp/small-fs/keep.pfm" "$tmp/keep-before.pfm"
+  dd if=/dev/zero of="$tmp/small-fs/filler" bs=1k count=60 2>/dev/null
+  printf 'LookAt 0 0 -3  0 0 0  0 1 0\nCamera "perspective"\nFilm "rgb" "integer xresolution" [ 64 ] "integer yresolution" [ 64 ]\nSampler "independent" "integer pixelsamples" [ 1 ]\nWorldBegin\nLightSource "infinite"\n' > "$tmp/big.pbrt"
+  "$bin" render "$tmp/big.pbrt" -o "$tmp/small-fs/keep.pfm" --quiet > "$tmp/full.txt" 2>&1
+  check "disk full exits non-zero" test $? -ne 0
+  check "disk full says it could not write" grep -q "cannot write\|write failed\|No space" "$tmp/full.txt"
+  check "disk full leaves the old file intact" cmp -s "$tmp/small-fs/keep.pfm" "$tmp/keep-before.pfm"
+  check "disk full leaves no temporary file" test -z "$(find "$tmp/small-fs" -name '.*.tmp-*')"
+  umount "$tmp/small-fs"
+else
+  echo "SKIP: disk-full tests (cannot mount a tmpfs here)"
+fi
+
+# Two renders writing one path at once: the file is one of the two images, never a mix.
+"$bin" render "$tmp/small.pbrt" -o "$tmp/a.pfm" --spp 64 --seed 1 --quiet
+"$bin" render "$tmp/small.pbrt" -o "$tmp/b.pfm" --spp 64 --seed 2 --quiet
+mixed=0
+for i in 1 2 3 4 5 6; do
+  "$bin" render "$tmp/small.pbrt" -o "$tmp/same.pfm" --spp 64 --seed 1 --quiet &
+  p1=$!
+  "$bin" render "$tmp/small.pbrt" -o "$tmp/same.pfm" --spp 64 --seed 2 --quiet &
+  p2=$!
+  wait $p1 $p2
+  cmp -s "$tmp/same.pfm" "$tmp/a.pfm" || cmp -s "$tmp/same.pfm" "$tmp/b.pfm" || mixed=$((mixed + 1))
+done
+check "concurrent writers never leave a mixed file" test $mixed -eq 0
+
 echo "cli: $pass passed, $fail failed"
 test "$fail" -eq 0

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "steradian/core/error.h"
+#include "steradian/core/output_file.h"
 #include "steradian/spectrum/color.h"
 
 namespace sr {
@@ -32,7 +33,9 @@ void write_pfm(const std::string& path, const Image& img) {
             for (int c = 0; c < 3; ++c) row[size_t(x) * 3 + c] = img.at(x, y, c);
         f.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * 4));
     }
-    if (!f) throw Error(fmt::format("{}: write failed", path));
+    f.flush();
+    f.close();
+    if (!f) throw Error(fmt::format("{}: write failed (disk full?)", path));
 }
 
 Image read_pfm(const std::string& path) {
@@ -70,18 +73,11 @@ Image read_pfm(const std::string& path) {
     return img;
 }
 
-}  // namespace
-
-void write_image(const std::string& path, const Image& img, const WriteOptions& opts) {
+void write_image_file(const std::string& tmp, const std::string& path, const Image& img,
+                      const WriteOptions& opts) {
     std::string ext = extension(path);
-    // One channel (named "Y") only for EXR, e.g. a luminance image in cd/m^2.
-    if (img.channels != 3 && !(img.channels == 1 && ext == ".exr"))
-        throw Error(fmt::format("{}: expected an RGB image{}", path,
-                                img.channels == 1 ? " (single-channel images: .exr only)" : ""));
-    if (auto dir = std::filesystem::path(path).parent_path(); !dir.empty())
-        std::filesystem::create_directories(dir);
-    if (ext == ".pfm") return write_pfm(path, img);
-    auto out = OIIO::ImageOutput::create(path);
+    if (ext == ".pfm") return write_pfm(tmp, img);
+    auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error(fmt::format("{}: unsupported image format '{}'", path, ext));
     bool is_float = ext == ".exr" || ext == ".hdr";
     OIIO::TypeDesc type = is_float ? (opts.half_float ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT)
@@ -89,7 +85,7 @@ void write_image(const std::string& path, const Image& img, const WriteOptions& 
     OIIO::ImageSpec spec(img.width, img.height, img.channels, type);
     if (img.channels == 1) spec.channelnames = {"Y"};
     spec.attribute("oiio:ColorSpace", is_float ? "Linear" : "sRGB");
-    if (!out->open(path, spec)) throw Error(fmt::format("{}: {}", path, out->geterror()));
+    if (!out->open(tmp, spec)) throw Error(fmt::format("{}: {}", path, out->geterror()));
     bool ok;
     if (is_float) {
         ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data.data());
@@ -105,6 +101,28 @@ void write_image(const std::string& path, const Image& img, const WriteOptions& 
         ok = out->write_image(OIIO::TypeDesc::UINT8, px.data());
     }
     if (!ok || !out->close()) throw Error(fmt::format("{}: {}", path, out->geterror()));
+}
+
+}  // namespace
+
+void check_image_output(const std::string& path, int channels) {
+    std::string ext = extension(path);
+    if (channels != 3 && !(channels == 1 && ext == ".exr"))
+        throw Error(fmt::format("{}: expected an RGB image{}", path,
+                                channels == 1 ? " (single-channel images: .exr only)" : ""));
+    if (ext != ".pfm") {
+        // create() only looks the format up by the extension; it opens no file.
+        auto out = OIIO::ImageOutput::create(path);
+        if (!out)
+            throw Error(fmt::format("{}: unknown image format \"{}\" (use .exr, .pfm or .png)",
+                                    path, ext));
+    }
+    check_output_path(path, "image output");
+}
+
+void write_image(const std::string& path, const Image& img, const WriteOptions& opts) {
+    check_image_output(path, img.channels);
+    write_file_atomically(path, [&](const std::string& tmp) { write_image_file(tmp, path, img, opts); });
 }
 
 Image read_image(const std::string& path, bool srgb_decode) {

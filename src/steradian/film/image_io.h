@@ -24,7 +24,14 @@ struct WriteOptions {
 /// Writes an RGB image (3 channels, linear) by the file extension: .exr (linear float),
 /// .pfm (linear float), .png/.jpg/.tif... (8-bit sRGB, clamped); a single-channel image
 /// (channel "Y") to .exr only. Throws sr::Error.
+/// The file is written atomically (a temporary file in the same directory, checked, synced
+/// and renamed into place), so a reader never sees a partial image.
 void write_image(const std::string& path, const Image& rgb, const WriteOptions& opts = {});
+
+/// Throws sr::Error unless an image of `channels` channels can be written to `path`: the
+/// extension names a format we write (and .exr for one channel), and the directory exists
+/// or can be created and is writable. For checking outputs before rendering.
+void check_image_output(const std::string& path, int channels = 3);
 
 /// Reads an image. 8-bit (and 16-bit integer) images are sRGB-decoded to linear when
 /// srgb_decode is true; float images are returned as stored. Throws sr::Error.

@@ -17,7 +17,8 @@ struct RenderOptions {
     int spp = 0;               ///< samples per pixel; <= 0: the scene's Sampler value
     int threads = 0;           ///< 0: all hardware threads
     uint64_t seed = 0;         ///< added to the scene's sampler seed
-    double time_budget = 0;    ///< seconds; 0: none. Stops after the last full pass.
+    double time_budget = 0;    ///< seconds; 0: none. Stops after the last full pass
+                               ///< within it, but completes the first pass (1 spp) always.
     bool progress = false;     ///< draw a progress bar on stderr
 };
 

@@ -219,7 +219,9 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                 tbb::blocked_range2d<int>(fp.y0, fp.y1, kTile, fp.x0, fp.x1, kTile),
                 [&](const tbb::blocked_range2d<int>& r) {
                     if (out_of_time.load(std::memory_order_relaxed)) return;
-                    if (opt.time_budget > 0 && elapsed() > opt.time_budget) {
+                    // The first pass (1 spp) always completes: an image of no samples is
+                    // no answer, however short the budget.
+                    if (opt.time_budget > 0 && s0 > 0 && elapsed() > opt.time_budget) {
                         out_of_time = true;
                         return;
                     }
