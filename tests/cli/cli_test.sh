@@ -155,6 +155,14 @@ for args in "--rel-error nan" "--rel-error 0" "--time nan" "--threads 100000"; d
   check "measure $args is rejected" test $? -ne 0
 done
 
+# measure --time is a bound, not a suggestion: rounds grow up to 64-fold, and a round that
+# would overrun is abandoned (within a few percent of the budget; its own clock, in the JSON).
+"$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --time 2 --json "$tmp/tb.json" --quiet > "$tmp/tb.txt" 2>&1
+check "measure --time exits 0" test $? -eq 0
+check "measure --time 2 stops within 2.1 s" \
+  python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['time_limited'] and r['wall_seconds'] < 2.1 else 1)" "$tmp/tb.json"
+check "measure --time reports unconverged values" grep -q '"converged": false' "$tmp/tb.json"
+
 # A --time shorter than one pass still renders the first pass (1 spp): not a black image.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1
 check "--time shorter than a pass exits 0" test $? -eq 0

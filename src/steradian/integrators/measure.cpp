@@ -117,8 +117,15 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         if (pending.empty()) break;
         std::vector<double> replica_mean(pending.size() * size_t(R), 0);
         const uint64_t round_seed = hash(opt.seed, uint64_t(round), uint64_t(0x6d65746572));
+        // The time budget is a bound: a round after the pilot (which every value needs for a
+        // standard error) is abandoned as soon as the budget is spent, checked every 256
+        // samples, and its values keep the previous round's estimates. (Rounds grow up to
+        // 64-fold, so waiting for the round to end could overrun the budget many times.)
+        const bool may_abandon = opt.time_budget > 0 && round > 0;
+        std::atomic<bool> abandoned{false};
         arena.execute([&] {
             tbb::parallel_for(size_t(0), pending.size() * size_t(R), [&](size_t item) {
+                if (may_abandon && abandoned.load(std::memory_order_relaxed)) return;
                 const size_t vi = pending[item / R];
                 const Value& val = values[vi];
                 const int replica = int(item % R);
@@ -129,6 +136,11 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                 uint64_t bad = 0;
                 double sum = 0;
                 for (int i = 0; i < n; ++i) {
+                    if (may_abandon && (i & 255) == 0 &&
+                        (abandoned.load(std::memory_order_relaxed) || elapsed() > opt.time_budget)) {
+                        abandoned = true;
+                        return;
+                    }
                     sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
                     double v = meter_sample(scene, m, val.point, sampler, counters);
                     if (!std::isfinite(v)) {
@@ -143,6 +155,10 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                 nonfinite += bad;
             });
         });
+        if (abandoned) {
+            res.time_limited = true;
+            break;
+        }
         const bool out_of_time = opt.time_budget > 0 && elapsed() > opt.time_budget;
         for (size_t j = 0; j < pending.size(); ++j) {
             const size_t vi = pending[j];

@@ -30,7 +30,9 @@ struct PathCounters;
 
 struct MeasureOptions {
     double rel_error = 1e-3;  ///< target relative standard error of every value
-    double time_budget = 0;   ///< seconds; 0 = none (stops after the round in progress)
+    double time_budget = 0;   ///< seconds; 0 = none. A bound: a round after the pilot is
+                              ///< abandoned when it runs out (its values keep their previous
+                              ///< estimates, not converged); the pilot round always completes.
     int threads = 0;          ///< 0 = all hardware threads
     uint64_t seed = 0;
     int replicas = 32;        ///< independent randomisations per value (>= 2)
