@@ -1,8 +1,10 @@
 // steradian command line: `steradian render SCENE.pbrt [options]`,
 // `steradian measure SCENE.pbrt [options]`.
+#include <signal.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -68,6 +70,34 @@ const CLI::Validator kSeed(
         return "";
     },
     "SEED");
+
+/// SIGINT and SIGTERM: the first asks the computation to stop after the pass (render) or
+/// round (measure) in flight, so that what is done is written; a second exits at once.
+std::atomic<bool> g_stop{false};
+volatile sig_atomic_t g_signal = 0;
+
+extern "C" void on_signal(int sig) {
+    if (g_signal != 0) _exit(128 + sig);
+    g_signal = sig;
+    g_stop.store(true);
+    static const char msg[] =
+        "\nsteradian: interrupted: finishing the pass in flight, then writing what is done "
+        "(interrupt again to quit at once)\n";
+    ssize_t ignored = write(STDERR_FILENO, msg, sizeof msg - 1);
+    (void)ignored;
+}
+
+void install_signal_handlers() {
+    static_assert(std::atomic<bool>::is_always_lock_free);  // safe in a signal handler
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+}
+
+/// The exit status after a completed computation: 128 + the signal that interrupted it.
+int exit_status() { return g_signal != 0 ? 128 + int(g_signal) : 0; }
 
 /// The most worker threads accepted: far more than any machine's cores, few enough that
 /// the thread pool and the per-thread state always fit.
@@ -154,13 +184,16 @@ int run_measure(const std::string& scene_path, const MeasureArgs& a, int threads
     mo.time_budget = a.time_budget;
     mo.threads = threads;
     mo.seed = seed;
+    mo.stop = &g_stop;
     sr::MeasureResult r = sr::measure(scene, mo);
     print_readings(r);
     if (!a.json.empty()) write_text(a.json, sr::meters_json(r));
     if (!a.csv.empty()) write_text(a.csv, sr::meters_csv(r));
     if (!a.falsecolor.empty()) write_grid_false_color(r, a.falsecolor, quiet);
     if (!quiet) print_measure_summary(r);
-    return 0;
+    if (r.interrupted)
+        std::fprintf(stderr, "steradian: interrupted: the readings above are those reached\n");
+    return exit_status();
 }
 
 int run_render(const std::string& scene_path, std::vector<std::string> outs, int spp, int threads,
@@ -188,6 +221,7 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
     ro.seed = seed;
     ro.time_budget = time_budget;
     ro.progress = !quiet && isatty(STDERR_FILENO);
+    ro.stop = &g_stop;
     sr::RenderStats st = sr::render(scene, film, ro);
     sr::WriteOptions wo;
     wo.exposure = exposure;
@@ -204,7 +238,9 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
         std::fprintf(stderr, "  wall time       %.2f s\n", st.wall_seconds);
         std::fprintf(stderr, "  CPU time        %.2f s\n", st.cpu_seconds);
         std::fprintf(stderr, "  samples/pixel   %d%s\n", st.spp,
-                     st.time_limited ? " (stopped by the --time budget)" : "");
+                     st.time_limited  ? " (stopped by the --time budget)"
+                     : st.interrupted ? " (interrupted)"
+                                      : "");
         std::fprintf(stderr, "  camera paths/s  %s\n",
                      human_rate(double(st.camera_paths) / st.wall_seconds).c_str());
         std::fprintf(stderr, "  rays/s          %s\n",
@@ -215,6 +251,9 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
     } else if (st.time_limited) {
         std::fprintf(stderr, "steradian: time budget reached after %d samples per pixel\n", st.spp);
     }
+    if (st.interrupted)
+        std::fprintf(stderr, "steradian: interrupted: the image has the %d completed samples per "
+                     "pixel\n", st.spp);
     if (st.nonfinite > 0)
         std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were zeroed\n",
                      (unsigned long long)st.nonfinite);
@@ -241,6 +280,7 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
         sr::MeasureOptions mo;
         mo.threads = threads;
         mo.seed = seed;
+        mo.stop = &g_stop;
         if (time_budget > 0) {
             // The budget covers the meters too: they get what the image left (at least their
             // pilot round, so that every reading has a standard error).
@@ -255,7 +295,7 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
             print_measure_summary(r);
         }
     }
-    return 0;
+    return exit_status();
 }
 
 }  // namespace
@@ -327,6 +367,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     }
+    install_signal_handlers();
     try {
         if (*render)
             return run_render(scene, outs, spp, threads, seed, time_budget, quiet, exposure,

@@ -3,6 +3,7 @@
 # Usage: tests/cli/cli_test.sh path/to/steradian
 set -u
 bin=$(realpath "$1")
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 pass=0
@@ -162,6 +163,43 @@ check "measure --time exits 0" test $? -eq 0
 check "measure --time 2 stops within 2.1 s" \
   python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['time_limited'] and r['wall_seconds'] < 2.1 else 1)" "$tmp/tb.json"
 check "measure --time reports unconverged values" grep -q '"converged": false' "$tmp/tb.json"
+
+# SIGINT / SIGTERM: the first signal lets the pass in flight finish, the completed passes are
+# written, and the exit status is 128 + the signal; a second signal exits at once.
+"$bin" render "$tmp/small.pbrt" -o "$tmp/int.pfm" --spp 100000000 > "$tmp/int.txt" 2>&1 &
+pid=$!
+sleep 1.5
+kill -INT $pid
+wait $pid
+check "SIGINT during render exits 130" test $? -eq 130
+check "SIGINT during render writes the completed passes" test -s "$tmp/int.pfm"
+check "SIGINT during render says so" grep -q "interrupted" "$tmp/int.txt"
+"$bin" render "$tmp/small.pbrt" -o "$tmp/term.pfm" --spp 100000000 --quiet > "$tmp/term.txt" 2>&1 &
+pid=$!
+sleep 1.5
+kill -TERM $pid
+wait $pid
+check "SIGTERM during render exits 143" test $? -eq 143
+check "SIGTERM during render writes the completed passes" test -s "$tmp/term.pfm"
+"$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --json "$tmp/int.json" --quiet > "$tmp/mint.txt" 2>&1 &
+pid=$!
+sleep 1.5
+kill -INT $pid
+wait $pid
+check "SIGINT during measure exits 130" test $? -eq 130
+check "SIGINT during measure writes the readings" grep -q '"interrupted": true' "$tmp/int.json"
+# A pass of minutes: the second signal must not wait for it.
+"$bin" render "$ROOT/scenes/cornell-box.pbrt" -o "$tmp/int2.pfm" --spp 1000000 --quiet > /dev/null 2>&1 &
+pid=$!
+sleep 1
+kill -INT $pid
+sleep 0.3
+start=$SECONDS
+kill -INT $pid
+wait $pid
+status=$?
+check "a second SIGINT exits at once with 130" test $status -eq 130 -a $((SECONDS - start)) -lt 3
+check "a second SIGINT writes nothing" test ! -e "$tmp/int2.pfm"
 
 # A --time shorter than one pass still renders the first pass (1 spp): not a black image.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1

@@ -3,6 +3,7 @@
 /// the per-path kernels (path/path.h). Every sample is a pure function of (pixel, sample
 /// index, dimension, seed) and each pixel accumulates its samples in index order, so the
 /// image does not depend on the number of threads.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -20,13 +21,21 @@ struct RenderOptions {
     double time_budget = 0;    ///< seconds; 0: none. Stops after the last full pass
                                ///< within it, but completes the first pass (1 spp) always.
     bool progress = false;     ///< draw a progress bar on stderr
+    /// When this becomes true (a signal handler sets it), the pass in flight completes and
+    /// rendering stops there: the film holds every completed pass. Null: never.
+    const std::atomic<bool>* stop = nullptr;
 };
+
+/// Largest pass, in samples per pixel: the film merges a pass at a time, so this bounds the
+/// work lost to an interruption and the wait for the pass in flight.
+inline constexpr int kMaxPassSpp = 64;
 
 struct RenderStats {
     double wall_seconds = 0;
     double cpu_seconds = 0;
     int spp = 0;               ///< samples per pixel actually completed
     bool time_limited = false; ///< stopped early by the time budget
+    bool interrupted = false;  ///< stopped early by RenderOptions::stop
     uint64_t camera_paths = 0;
     uint64_t rays = 0;         ///< closest-hit plus shadow rays
     uint64_t nonfinite = 0;    ///< NaN/Inf samples zeroed before reaching the film

@@ -121,7 +121,11 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         // standard error) is abandoned as soon as the budget is spent, checked every 256
         // samples, and its values keep the previous round's estimates. (Rounds grow up to
         // 64-fold, so waiting for the round to end could overrun the budget many times.)
-        const bool may_abandon = opt.time_budget > 0 && round > 0;
+        const bool may_abandon = (opt.time_budget > 0 || opt.stop) && round > 0;
+        auto must_stop = [&] {
+            return (opt.time_budget > 0 && elapsed() > opt.time_budget) ||
+                   (opt.stop && opt.stop->load(std::memory_order_relaxed));
+        };
         std::atomic<bool> abandoned{false};
         arena.execute([&] {
             tbb::parallel_for(size_t(0), pending.size() * size_t(R), [&](size_t item) {
@@ -137,7 +141,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                 double sum = 0;
                 for (int i = 0; i < n; ++i) {
                     if (may_abandon && (i & 255) == 0 &&
-                        (abandoned.load(std::memory_order_relaxed) || elapsed() > opt.time_budget)) {
+                        (abandoned.load(std::memory_order_relaxed) || must_stop())) {
                         abandoned = true;
                         return;
                     }
@@ -159,7 +163,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
             res.time_limited = true;
             break;
         }
-        const bool out_of_time = opt.time_budget > 0 && elapsed() > opt.time_budget;
+        const bool out_of_time = must_stop();
         for (size_t j = 0; j < pending.size(); ++j) {
             const size_t vi = pending[j];
             double mean = 0;
@@ -215,6 +219,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         r.avg_stderr = std::sqrt(var) / cnt;
         r.uniformity = r.avg > 0 ? r.min / r.avg : 0;
     }
+    res.interrupted = opt.stop && opt.stop->load();
     res.paths = paths;
     res.rays = rays;
     res.nonfinite = nonfinite;
@@ -250,6 +255,7 @@ std::string meters_json(const MeasureResult& res) {
     root["rel_error_target"] = res.rel_error_target;
     root["converged"] = res.all_converged;
     root["time_limited"] = res.time_limited;
+    if (res.interrupted) root["interrupted"] = true;
     root["wall_seconds"] = res.wall_seconds;
     root["cpu_seconds"] = res.cpu_seconds;
     root["paths"] = res.paths;

@@ -16,6 +16,7 @@
 /// receiver (f = 1/pi) at the point and estimate E = pi L_o with the path tracer (light
 /// sampling and cosine sampling combined by MIS, then the full path); luminance meters
 /// average the radiance over their acceptance cone (uniform in solid angle).
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,6 +36,9 @@ struct MeasureOptions {
                               ///< estimates, not converged); the pilot round always completes.
     int threads = 0;          ///< 0 = all hardware threads
     uint64_t seed = 0;
+    /// When this becomes true, measuring stops as the time budget stops it (the pilot round
+    /// completes; a later round is abandoned). Null: never.
+    const std::atomic<bool>* stop = nullptr;
     int replicas = 32;        ///< independent randomisations per value (>= 2)
     int first_samples = 32;   ///< samples per replica in the pilot round (power of two)
     /// Samples per replica beyond which a value stops unconverged (a power of two).
@@ -56,7 +60,8 @@ struct MeasureResult {
     double rel_error_target = 0;
     double wall_seconds = 0, cpu_seconds = 0;
     uint64_t paths = 0, rays = 0, nonfinite = 0;
-    bool time_limited = false;
+    bool time_limited = false;  ///< stopped early (time budget or MeasureOptions::stop)
+    bool interrupted = false;   ///< MeasureOptions::stop was set
     bool all_converged = true;
 };
 

@@ -210,7 +210,12 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     // budget one pass does everything, so that the samplers compute the per-pixel parts of
     // each dimension once per pixel rather than once per pass.
     int done = 0;
-    int pass_size = opt.time_budget > 0 ? 1 : total_spp;
+    // Passes of 1, 2, 4, ... samples per pixel with a time budget (so that a short budget
+    // still ends on a completed pass), else of kMaxPassSpp; each pixel's samples are summed
+    // in index order within a pass and the passes merged in order, so the image depends on
+    // the pass schedule, which depends only on the sample count and whether there is a
+    // budget, never on timing or threads.
+    int pass_size = opt.time_budget > 0 ? 1 : std::min(total_spp, kMaxPassSpp);
     while (done < total_spp) {
         int s0 = done, s1 = std::min(total_spp, done + pass_size);
         std::vector<PixelSum> pass = film.make_buffer();
@@ -244,7 +249,11 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         }
         film.merge(pass);
         done = s1;
-        pass_size = std::min(pass_size * 2, 64);
+        pass_size = std::min(pass_size * 2, kMaxPassSpp);
+        if (opt.stop && opt.stop->load() && done < total_spp) {
+            stats.interrupted = true;
+            break;
+        }
         if (opt.time_budget > 0 && elapsed() > opt.time_budget && done < total_spp) {
             stats.time_limited = true;
             break;
