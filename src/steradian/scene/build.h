@@ -2,7 +2,8 @@
 /// Turns a format-neutral SceneDesc into a runtime Scene: validates every entity's type and
 /// parameters (unknown or unused parameters are errors at their file:line:col), resolves
 /// named materials and textures, converts spectra (with pbrt-v4's photometric
-/// normalisation of lights), reads meshes, and builds the acceleration structure.
+/// normalisation of lights), reads meshes, and builds the acceleration structure. The
+/// builder's stages are in scene/build/, one file for each kind of thing built.
 #include "steradian/scene/desc.h"
 #include "steradian/scene/scene.h"
 
