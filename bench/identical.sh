@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Checks that two builds compute the same thing: renders every bundled and reference scene
-# with both binaries (4 threads vs 1 thread too, for determinism) and compares the images
-# byte for byte (PFM: raw floats, no metadata), then runs the photometric test cases through
-# `measure` with both and compares the readings. Meant for refactors that must not change
-# behaviour (the issue's "images bit-identical before and after").
+# Checks that two builds compute the same thing: renders every bundled, reference and
+# tests/data/identical scene (the last written to go through the scene builder's paths) with
+# both binaries (4 threads vs 1 thread too, for determinism) and compares the images byte for
+# byte (PFM: raw floats, no metadata), then runs the photometric test cases and the
+# tests/data/identical scenes with meters through `measure` with both and compares the
+# readings. Meant for refactors that must not change behaviour (the issue's "images
+# bit-identical before and after").
 # Usage: bench/identical.sh OLD_BINARY NEW_BINARY [SPP]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,7 +15,7 @@ spp=${3:-8}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-scenes=(scenes/*.pbrt tests/data/reference/*/scene.pbrt)
+scenes=(scenes/*.pbrt tests/data/reference/*/scene.pbrt tests/data/identical/*.pbrt)
 same=0
 differ=0
 for s in "${scenes[@]}"; do
@@ -30,7 +32,7 @@ for s in "${scenes[@]}"; do
 done
 
 # Readings: the meters' values and standard errors (the JSON's timing fields removed).
-for s in tests/data/cie171/*.pbrt; do
+for s in tests/data/cie171/*.pbrt $(grep -l '^Meter' tests/data/identical/*.pbrt); do
   name=$(basename "$s" .pbrt)
   "$old" measure "$s" --rel-error 0.02 --json "$tmp/$name.old.json" --quiet --seed 1 >/dev/null
   "$new" measure "$s" --rel-error 0.02 --json "$tmp/$name.new.json" --quiet --seed 1 --threads 1 >/dev/null

@@ -10,8 +10,6 @@
 
 namespace sr {
 
-struct MeterDesc;
-
 enum class MeterKind { Point, Grid, Luminance };
 /// Photopic V(lambda) (lx, cd/m^2), scotopic V'(lambda) (scotopic lx, cd/m^2), or
 /// radiometric (W/m^2, W/(m^2 sr), integrated over 360..830 nm).
@@ -52,9 +50,5 @@ struct Meter {
     /// (docs/units.md: photopic = ybar, scotopic = (K'_m / K_m) V', radiometric = 1 / K_m).
     Float spectral_weight(Float lambda) const;
 };
-
-/// Meters from the scene description, in the order of their directives. Every parameter
-/// problem is an sr::Error at its file:line:col.
-std::vector<Meter> build_meters(const std::vector<MeterDesc>& descs);
 
 }  // namespace sr

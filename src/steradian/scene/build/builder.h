@@ -1,0 +1,147 @@
+#pragma once
+/// The internal Builder behind build_scene(), its members defined across this folder (not public).
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "steradian/scene/build.h"
+
+namespace sr::build_detail {
+
+inline std::string resolve_path(const std::string& base_dir, const std::string& file) {
+    std::filesystem::path p(file);
+    if (p.is_absolute() || base_dir.empty()) return file;
+    return (std::filesystem::path(base_dir) / p).string();
+}
+
+[[noreturn]] inline void unsupported(const EntityDesc& e, std::string_view what) {
+    throw_error(e.loc, "{} \"{}\" is not supported yet (see docs/pbrt-support.md)", what, e.type);
+}
+
+class Builder {
+  public:
+    Builder(const SceneDesc& d, const BuildOptions& o) : m_d(d), m_o(o) {}
+
+    Scene build();  // build.cpp
+
+  private:
+    // ---- options block (options.cpp) ---------------------------------------------------
+    void build_options_block();
+    void build_film();
+    void build_camera();
+    void build_filter();
+    void build_sampler();
+    void build_integrator();
+
+    // ---- textures (textures.cpp) -------------------------------------------------------
+    std::shared_ptr<const TextureImage> load_image(const TextureDesc& t, const ParamSet& ps);
+    UvMapping read_mapping(const TextureDesc& t, const ParamSet& ps);
+    void build_textures();
+    static void check_checkerboard_dimension(const TextureDesc& t, const ParamSet& ps);
+    std::shared_ptr<const FloatTexture> float_tex_arg(const ParamSet& ps, std::string_view name,
+                                                      Float def);
+    std::shared_ptr<const SpectrumTexture> spectrum_tex_arg(const ParamSet& ps,
+                                                            std::string_view name, Float def);
+    int spectrum_texture_param(const ParamSet& ps, std::string_view name, Float def);
+    int float_texture_param(const ParamSet& ps, std::string_view name, Float def);
+
+    // ---- material parameters (material_params.cpp) -------------------------------------
+    Roughness roughness_params(const ParamSet& ps);
+    std::pair<Spectrum, bool> eta_param(const ParamSet& ps, Float def);
+    Spectrum unbounded_param(const ParamSet& ps, std::string_view name, const char* def_named);
+    int albedo_param(const ParamSet& ps, std::string_view name, Float def);
+    std::optional<Float> constant_albedo_sum(int a, int b) const;
+    Float energy_scale(int kd, int ks, const SourceLoc& loc, const std::string& what);
+    int bounded_float_param(const ParamSet& ps, std::string_view name, Float def, bool positive);
+    LafortuneMaterial lafortune_params(const ParamSet& ps, const SourceLoc& loc,
+                                       const std::string& what);
+    Roughness prefixed_roughness_params(const ParamSet& ps, const std::string& prefix);
+    std::pair<Spectrum, bool> named_eta_param(const ParamSet& ps, const std::string& name,
+                                              Float def);
+    LayerParams layer_params(const ParamSet& ps, const std::string& what);
+
+    // ---- materials (materials.cpp) -----------------------------------------------------
+    void resolve_mixes();
+    Material make_material(const MaterialDesc& m);
+    Material make_material_model(const MaterialDesc& m);
+    void build_materials();
+    int resolve_material(const MaterialRef& r);
+
+    // ---- shapes and instances (shapes.cpp) ---------------------------------------------
+    static std::shared_ptr<std::vector<Point3>> padded_positions(std::vector<Point3> p);
+    TriangleMesh make_mesh(const ShapeDesc& s, std::vector<Point3> p, std::vector<Normal3> n,
+                           std::vector<Point2> uv, std::vector<int> idx);
+    std::optional<ShapeGeometry> make_geometry(const ShapeDesc& s);
+    void check_alpha(const ShapeDesc& s);
+    ShapeGeometry make_bilinear(const ShapeDesc& s);
+    void add_shape(const ShapeDesc& s, Prototype* proto);
+    void build_instances();
+
+    // ---- photometric luminaires (goniometric lights with an IES/LDT file; luminaires.cpp)
+    // Read before the geometry is finalised: a luminous opening is a shape (with the
+    // "interface" material, so it emits but does not block light).
+    struct Luminaire {
+        std::optional<GoniometricLight> point;          ///< the point form, or
+        std::shared_ptr<GoniometricEmission> emission;  ///< the luminous opening
+        int shape = -1;                                 ///< its shape
+    };
+
+    static std::string lower_extension(const std::string& f);
+    void build_luminaires();
+    Luminaire make_luminaire(const LightDesc& l);
+    Luminaire make_image_goniometric(const LightDesc& l, const std::string& path,
+                                     const std::string& file);
+    void add_luminaire(Scene& s, const Luminaire& lum);
+
+    /// One DiffuseAreaLight per emitting primitive of shape `shape_index` (each triangle of
+    /// a mesh, or the whole sphere or disk), made by make(primitive area), as pbrt-v4 does.
+    template <typename Make>
+    static void add_emitting_primitives(Scene& s, int shape_index, const Make& make) {
+        ShapeEntry& e = s.shapes[shape_index];
+        e.light_offset = int(s.lights.size());
+        if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
+            for (size_t i = 0; i < mesh->num_triangles(); ++i) {
+                DiffuseAreaLight dl = make(mesh->triangle_area(i));
+                dl.triangle = mesh->triangle(i);
+                s.lights.push_back(dl);
+            }
+        } else if (auto* sp = std::get_if<Sphere>(&e.geometry)) {
+            DiffuseAreaLight dl = make(sp->area());
+            dl.sphere = sp;
+            s.lights.push_back(dl);
+        } else {
+            auto* d = std::get_if<Disk>(&e.geometry);
+            DiffuseAreaLight dl = make(d->area());
+            dl.disk = d;
+            s.lights.push_back(dl);
+        }
+    }
+
+  public:
+    // ---- lights (lights.cpp) -----------------------------------------------------------
+    void build_lights(Scene& s);
+
+  private:
+    Spectrum illum_param(const ParamSet& ps, std::string_view name);
+    static Float photometric_or_fail(const Spectrum& s, const SourceLoc& loc);
+    void add_light(Scene& s, const LightDesc& l, Point3 center, Float radius);
+    void add_area_light(Scene& s, int shape_index, const AreaLightDesc& a);
+
+    const SceneDesc& m_d;
+    BuildOptions m_o;
+    Scene m_s;
+    Float m_exposure_iso = 1;
+    std::map<std::string, std::shared_ptr<const TextureImage>> m_images;
+    std::map<std::string, int> m_float_tex, m_spec_tex;
+    std::vector<int> m_material_index;
+    int m_default_material = -1;
+    std::vector<std::pair<int, int>> m_pending_area;  ///< (shape, area light desc)
+    std::map<size_t, Luminaire> m_luminaires;         ///< by index into SceneDesc::lights
+};
+
+}  // namespace sr::build_detail

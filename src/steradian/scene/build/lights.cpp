@@ -1,0 +1,155 @@
+/// Light sources (point, spot, distant, infinite) and the area lights of shapes.
+#include "steradian/scene/build/builder.h"
+
+namespace sr::build_detail {
+
+// ---- lights (after geometry: distant and infinite lights need the bounds) --------
+void Builder::build_lights(Scene& s) {
+    Point3 center = s.bounds.empty() ? Point3(0, 0, 0) : s.bounds.center();
+    Float radius = s.bounds.empty() ? 1 : std::max(Float(1e-3), length(s.bounds.diagonal()) / 2);
+    for (size_t i = 0; i < m_d.lights.size(); ++i) {
+        if (auto it = m_luminaires.find(i); it != m_luminaires.end())
+            add_luminaire(s, it->second);
+        else
+            add_light(s, m_d.lights[i], center, radius);
+    }
+    for (auto [shape, al] : m_pending_area) add_area_light(s, shape, m_d.area_lights[al]);
+}
+
+Spectrum Builder::illum_param(const ParamSet& ps, std::string_view name) {
+    if (const Param* p = ps.find_spectrum(name))
+        return spectrum_from_param(*p, SpectrumKind::Illuminant, m_d.base_dir);
+    return srgb_illuminant();
+}
+
+/// pbrt-v4's SpectrumToPhotometric of a light spectrum as given in the file: for RGB
+/// illuminants only the colour space's illuminant counts, so an "rgb L" of (4, 4, 4) is
+/// four times as bright as (1, 1, 1). Must be called before densely_sampled().
+Float Builder::photometric_or_fail(const Spectrum& s, const SourceLoc& loc) {
+    Float y = spectrum_to_photometric(s);
+    if (!(y > 0)) throw_error(loc, "the light's spectrum has no visible (V(lambda)) content");
+    return y;
+}
+
+void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radius) {
+    const ParamSet& ps = l.params;
+    std::string what = fmt::format("LightSource \"{}\"", l.type);
+    const Transform& x = l.world_from_light;
+    if (l.type == "point") {
+        PointLight pl;
+        Spectrum I = illum_param(ps, "I");
+        pl.intensity = densely_sampled(I);
+        Float sc = ps.get_float("scale", 1);
+        Float phi = ps.get_float("power", -1);
+        if (phi > 0) sc *= phi / (4 * kPi);
+        sc /= photometric_or_fail(I, l.loc);
+        Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
+        pl.p = x.point(from);
+        pl.scale = sc;
+        ps.check_unused(what);
+        s.lights.push_back(pl);
+    } else if (l.type == "spot") {
+        SpotLight sl;
+        Spectrum I = illum_param(ps, "I");
+        sl.intensity = densely_sampled(I);
+        Float sc = ps.get_float("scale", 1);
+        Float cone = ps.get_float("coneangle", 30), delta = ps.get_float("conedelta", 5);
+        sl.cos_falloff_end = std::cos(radians(cone));
+        sl.cos_falloff_start = std::cos(radians(cone - delta));
+        Float phi = ps.get_float("power", -1);
+        if (phi > 0) {
+            Float k_e =
+                2 * kPi *
+                ((1 - sl.cos_falloff_start) + (sl.cos_falloff_start - sl.cos_falloff_end) / 2);
+            sc *= phi / k_e;
+        }
+        sc /= photometric_or_fail(I, l.loc);
+        Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
+        Point3 to = ps.find_point3("to").value_or(Point3(0, 0, 1));
+        Vec3 dir = to - from;
+        if (length(dir) == 0) throw_error(l.loc, "{}: \"from\" and \"to\" coincide", what);
+        // light space: +z along the cone axis, origin at `from`.
+        Frame f = Frame::from_z(normalize(dir));
+        Matrix4 m = Matrix4::identity();
+        for (int i = 0; i < 3; ++i) {
+            m.m[i][0] = f.s[i];
+            m.m[i][1] = f.t[i];
+            m.m[i][2] = f.n[i];
+            m.m[i][3] = from[i];
+        }
+        Transform world_from_spot = x * Transform(m);
+        sl.light_from_world = world_from_spot.inverse();
+        sl.p = world_from_spot.point(Point3(0, 0, 0));
+        sl.scale = sc;
+        ps.check_unused(what);
+        s.lights.push_back(sl);
+    } else if (l.type == "distant") {
+        DistantLight dl;
+        Spectrum L = illum_param(ps, "L");
+        dl.radiance = densely_sampled(L);
+        Float sc = ps.get_float("scale", 1);
+        sc /= photometric_or_fail(L, l.loc);
+        Float ev = ps.get_float("illuminance", -1);
+        if (ev > 0) sc *= ev;
+        Point3 from = ps.find_point3("from").value_or(Point3(0, 0, 0));
+        Point3 to = ps.find_point3("to").value_or(Point3(0, 0, 1));
+        Vec3 w = x.vector(from - to);
+        if (length(w) == 0) throw_error(l.loc, "{}: \"from\" and \"to\" coincide", what);
+        dl.w_light = normalize(w);
+        dl.scale = sc;
+        dl.scene_center = center;
+        dl.scene_radius = radius;
+        ps.check_unused(what);
+        s.lights.push_back(dl);
+    } else if (l.type == "infinite") {
+        if (ps.find("filename") || ps.find("portal"))
+            throw_error(l.loc,
+                        "{}: image-based (\"filename\") and portal infinite lights are "
+                        "not supported yet",
+                        what);
+        UniformInfiniteLight il;
+        Spectrum L = illum_param(ps, "L");
+        il.radiance = densely_sampled(L);
+        Float sc = ps.get_float("scale", 1);
+        sc /= photometric_or_fail(L, l.loc);
+        Float ev = ps.get_float("illuminance", -1);
+        if (ev > 0) sc *= ev / kPi;
+        il.scale = sc;
+        il.scene_center = center;
+        il.scene_radius = radius;
+        ps.check_unused(what);
+        s.infinite_lights.push_back(int(s.lights.size()));
+        s.lights.push_back(il);
+    } else {
+        throw_error(l.loc, "light type \"{}\" is not supported yet (see docs/pbrt-support.md)",
+                    l.type);
+    }
+}
+
+void Builder::add_area_light(Scene& s, int shape_index, const AreaLightDesc& a) {
+    if (a.type != "diffuse")
+        throw_error(a.loc, "area light type \"{}\" is not supported yet", a.type);
+    const ParamSet& ps = a.params;
+    if (ps.find("filename"))
+        throw_error(a.loc, "image-textured area lights (\"filename\") are not supported yet");
+    Spectrum L_param = illum_param(ps, "L");
+    Float sc = ps.get_float("scale", 1);
+    bool two_sided = ps.get_bool("twosided", false);
+    // pbrt-v4 normalises by the photometric value of the spectrum as given (for RGB,
+    // of the colour space's illuminant alone), so densify only afterwards.
+    sc /= photometric_or_fail(L_param, a.loc);
+    Spectrum L = densely_sampled(L_param);
+    Float phi = ps.get_float("power", -1);
+    ps.check_unused("AreaLightSource \"diffuse\"");
+    add_emitting_primitives(s, shape_index, [&](Float area) {
+        DiffuseAreaLight dl;
+        dl.radiance = L;
+        dl.two_sided = two_sided;
+        dl.area = area;
+        // pbrt-v4 applies "power" per emitting primitive (each triangle its own light).
+        dl.scale = phi > 0 ? sc * phi / ((two_sided ? 2 : 1) * area * kPi) : sc;
+        return dl;
+    });
+}
+
+}  // namespace sr::build_detail

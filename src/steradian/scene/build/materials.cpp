@@ -1,0 +1,223 @@
+/// Materials: every reflection model from its parameters, "mix" and material references.
+#include <tuple>
+
+#include "steradian/film/image_io.h"
+#include "steradian/scene/build/builder.h"
+
+namespace sr::build_detail {
+
+/// Maps the description indices that make_material stored in "mix" materials to scene
+/// material indices, and rejects a mix that contains itself (it would never resolve).
+void Builder::resolve_mixes() {
+    for (size_t i = 0; i < m_d.materials.size(); ++i)
+        if (auto* mix = std::get_if<MixMaterial>(&m_s.materials[m_material_index[i]]))
+            for (int& k : mix->materials) k = m_material_index[k];
+    // Depth-first search over the mix graph: 1 = on the current path, 2 = done.
+    std::vector<uint8_t> state(m_s.materials.size(), 0);
+    auto visit = [&](auto&& self, int mi) -> bool {
+        if (state[mi] == 1) return false;
+        if (state[mi] == 2) return true;
+        state[mi] = 1;
+        if (const auto* mix = std::get_if<MixMaterial>(&m_s.materials[mi]))
+            for (int k : mix->materials)
+                if (!self(self, k)) return false;
+        state[mi] = 2;
+        return true;
+    };
+    for (size_t i = 0; i < m_d.materials.size(); ++i)
+        if (!visit(visit, m_material_index[i]))
+            throw_error(m_d.materials[i].loc, "material \"{}\": a \"mix\" material contains itself",
+                        m_d.materials[i].name);
+}
+
+/// A material with pbrt-v4's shading-normal parameters ("normalmap", "displacement")
+/// read for every reflection model (interface and mix have none, as in pbrt-v4).
+Material Builder::make_material(const MaterialDesc& m) {
+    const ParamSet& ps = m.params;
+    MaterialCommon common;
+    bool has_perturbation = false;
+    if (m.type != "interface" && m.type != "none" && !m.type.empty() && m.type != "mix") {
+        if (auto file = ps.find_string("normalmap")) {
+            const Param* p = ps.find("normalmap");
+            auto img = std::make_shared<TextureImage>();
+            try {
+                img->image = read_image(resolve_path(m_d.base_dir, *file), false);  // linear
+            } catch (const Error& err) {
+                throw_error(p->loc, "\"normalmap\": {}", err.what());
+            }
+            if (img->image.channels < 3)
+                throw_error(p->loc, "\"normalmap\" \"{}\" needs RGB channels", *file);
+            img->wrap = WrapMode::Repeat;
+            common.normal_map = std::move(img);
+            has_perturbation = true;
+        }
+        if (ps.find("displacement")) {
+            common.displacement = float_texture_param(ps, "displacement", 0);
+            has_perturbation = true;
+        }
+    }
+    Material mt = make_material_model(m);
+    if (has_perturbation)
+        std::visit([&](auto& x) { static_cast<MaterialCommon&>(x) = common; }, mt);
+    return mt;
+}
+
+Material Builder::make_material_model(const MaterialDesc& m) {
+    const ParamSet& ps = m.params;
+    std::string what = m.name.empty() ? fmt::format("Material \"{}\"", m.type)
+                                      : fmt::format("material \"{}\"", m.name);
+    if (m.type == "diffuse") {
+        DiffuseMaterial d;
+        d.reflectance = spectrum_texture_param(ps, "reflectance", 0.5f);
+        ps.check_unused(what);
+        return d;
+    }
+    if (m.type == "interface" || m.type == "none" || m.type.empty()) {
+        ps.check_unused(what);
+        return InterfaceMaterial{};
+    }
+    if (m.type == "dielectric") {
+        DielectricMaterial d;
+        std::tie(d.eta, d.dispersive) = eta_param(ps, 1.5f);
+        d.roughness = roughness_params(ps);
+        ps.check_unused(what);
+        return d;
+    }
+    if (m.type == "thindielectric") {
+        ThinDielectricMaterial d;
+        std::tie(d.eta, d.dispersive) = eta_param(ps, 1.5f);
+        ps.check_unused(what);
+        return d;
+    }
+    if (m.type == "conductor") {
+        ConductorMaterial c;
+        if (ps.find("reflectance")) {
+            if (ps.find("eta") || ps.find("k"))
+                throw_error(m.loc, "{}: give either \"reflectance\" or \"eta\" and \"k\"", what);
+            c.reflectance = spectrum_texture_param(ps, "reflectance", 1);
+        } else {
+            c.eta = unbounded_param(ps, "eta", "metal-Cu-eta");
+            c.k = unbounded_param(ps, "k", "metal-Cu-k");
+        }
+        c.roughness = roughness_params(ps);
+        ps.check_unused(what);
+        return c;
+    }
+    if (m.type == "diffusetransmission") {
+        DiffuseTransmissionMaterial d;
+        d.reflectance = spectrum_texture_param(ps, "reflectance", 0.25f);
+        d.transmittance = spectrum_texture_param(ps, "transmittance", 0.25f);
+        d.scale = ps.get_float("scale", 1);
+        ps.check_unused(what);
+        return d;
+    }
+    if (m.type == "coateddiffuse") {
+        CoatedDiffuseMaterial c;
+        c.reflectance = spectrum_texture_param(ps, "reflectance", 0.5f);
+        c.roughness = roughness_params(ps);
+        std::tie(c.eta, c.dispersive) = eta_param(ps, 1.5f);
+        c.layer = layer_params(ps, what);
+        ps.check_unused(what);
+        return c;
+    }
+    if (m.type == "coatedconductor") {
+        CoatedConductorMaterial c;
+        c.interface_roughness = prefixed_roughness_params(ps, "interface.");
+        std::tie(c.interface_eta, c.dispersive) = named_eta_param(ps, "interface.eta", 1.5f);
+        if (ps.find("reflectance")) {
+            if (ps.find("conductor.eta") || ps.find("conductor.k"))
+                throw_error(m.loc,
+                            "{}: give either \"reflectance\" or \"conductor.eta\" and "
+                            "\"conductor.k\"",
+                            what);
+            c.reflectance = spectrum_texture_param(ps, "reflectance", 1);
+        } else {
+            c.conductor_eta = unbounded_param(ps, "conductor.eta", "metal-Cu-eta");
+            c.conductor_k = unbounded_param(ps, "conductor.k", "metal-Cu-k");
+        }
+        c.conductor_roughness = prefixed_roughness_params(ps, "conductor.");
+        c.layer = layer_params(ps, what);
+        ps.check_unused(what);
+        return c;
+    }
+    if (m.type == "mix") {
+        MixMaterial mix;
+        std::vector<std::string> names = ps.get_strings("materials");
+        const Param* p = ps.find("materials");
+        SourceLoc loc = p ? p->loc : m.loc;
+        if (names.size() != 2)
+            throw_error(loc, "{}: \"materials\" must name two materials, got {}", what,
+                        names.size());
+        for (int k = 0; k < 2; ++k) {
+            auto it = m_d.named_materials.find(names[k]);
+            if (it == m_d.named_materials.end())
+                throw_error(loc, "{}: named material \"{}\" is not defined", what, names[k]);
+            mix.materials[k] = it->second;  // a description index until resolve_mixes()
+        }
+        mix.amount = float_texture_param(ps, "amount", 0.5f);
+        ps.check_unused(what);
+        return mix;
+    }
+    if (m.type == "phong" || m.type == "modifiedphong") {  // steradian extensions
+        PhongMaterial p;
+        p.kd = albedo_param(ps, "Kd", 0.5f);
+        p.ks = albedo_param(ps, "Ks", 0.25f);
+        p.exponent = bounded_float_param(ps, "exponent", 20, false);
+        p.absorb = m.type == "modifiedphong";
+        ps.check_unused(what);
+        p.energy_scale = energy_scale(p.kd, p.ks, m.loc, what);
+        return p;
+    }
+    if (m.type == "lafortune") {  // steradian extension
+        LafortuneMaterial l = lafortune_params(ps, m.loc, what);
+        ps.check_unused(what);
+        return l;
+    }
+    if (m.type == "ward") {  // steradian extension
+        WardMaterial w;
+        w.kd = albedo_param(ps, "Kd", 0.5f);
+        w.ks = albedo_param(ps, "Ks", 0.25f);
+        w.alpha_x = bounded_float_param(ps, "alpha_x", 0.1f, true);
+        w.alpha_y = ps.find("alpha_y") ? bounded_float_param(ps, "alpha_y", 0.1f, true) : w.alpha_x;
+        ps.check_unused(what);
+        w.energy_scale = energy_scale(w.kd, w.ks, m.loc, what);
+        return w;
+    }
+    throw_error(m.loc, "material type \"{}\" is not supported yet (see docs/pbrt-support.md)",
+                m.type);
+}
+
+void Builder::build_materials() {
+    m_material_index.resize(m_d.materials.size(), -1);
+    for (size_t i = 0; i < m_d.materials.size(); ++i) {
+        m_material_index[i] = int(m_s.materials.size());
+        m_s.materials.push_back(make_material(m_d.materials[i]));
+    }
+    resolve_mixes();
+}
+
+int Builder::resolve_material(const MaterialRef& r) {
+    if (r.index >= 0) {
+        int mi = m_material_index[r.index];
+        return std::holds_alternative<InterfaceMaterial>(m_s.materials[mi]) ? -1 : mi;
+    }
+    if (!r.name.empty()) {
+        auto it = m_d.named_materials.find(r.name);
+        if (it == m_d.named_materials.end())
+            throw_error(r.loc, "named material \"{}\" is not defined", r.name);
+        int mi = m_material_index[it->second];
+        return std::holds_alternative<InterfaceMaterial>(m_s.materials[mi]) ? -1 : mi;
+    }
+    // pbrt-v4's default: diffuse with reflectance 0.5.
+    if (m_default_material < 0) {
+        DiffuseMaterial d;
+        m_s.spectrum_textures.push_back(
+            ConstantSpectrumTexture{densely_sampled(ConstantSpectrum{0.5f})});
+        d.reflectance = int(m_s.spectrum_textures.size()) - 1;
+        m_default_material = int(m_s.materials.size());
+        m_s.materials.push_back(d);
+    }
+    return m_default_material;
+}
+
+}  // namespace sr::build_detail

@@ -1,0 +1,234 @@
+/// The options block: colour space, film, camera, pixel filter, sampler and integrator.
+#include <map>
+
+#include "steradian/scene/build/builder.h"
+
+namespace sr::build_detail {
+
+void Builder::build_options_block() {
+    for (const EntityDesc& cs : m_d.color_spaces)
+        if (cs.type != "srgb")
+            throw_error(cs.loc, "ColorSpace \"{}\" is not supported yet (only \"srgb\")", cs.type);
+    if (!m_d.accelerator.type.empty())
+        warning(m_d.accelerator.loc,
+                fmt::format("Accelerator \"{}\" ignored: steradian always uses Embree",
+                            m_d.accelerator.type));
+    for (const Param& p : m_d.options.params())
+        if (p.name != "seed") warning(p.loc, fmt::format("Option \"{}\" is ignored", p.name));
+    build_film();
+    build_camera();
+    build_filter();
+    build_sampler();
+    build_integrator();
+}
+
+void Builder::build_film() {
+    const EntityDesc& f = m_d.film;
+    FilmParams fp;
+    if (!f.type.empty() && f.type != "rgb") unsupported(f, "Film");
+    const ParamSet& ps = f.params;
+    fp.resolution = Vec2i(ps.get_int("xresolution", 1280), ps.get_int("yresolution", 720));
+    if (fp.resolution.x <= 0 || fp.resolution.y <= 0)
+        throw_error(f.loc, "film resolution must be positive");
+    fp.filename = ps.get_string("filename", "pbrt.exr");
+    fp.x0 = 0;
+    fp.x1 = fp.resolution.x;
+    fp.y0 = 0;
+    fp.y1 = fp.resolution.y;
+    if (auto pb = ps.get_ints("pixelbounds"); !pb.empty()) {
+        if (pb.size() != 4) throw_error(f.loc, "\"pixelbounds\" needs 4 values");
+        fp.x0 = clamp(pb[0], 0, fp.resolution.x);
+        fp.x1 = clamp(pb[1], 0, fp.resolution.x);
+        fp.y0 = clamp(pb[2], 0, fp.resolution.y);
+        fp.y1 = clamp(pb[3], 0, fp.resolution.y);
+    }
+    if (auto cw = ps.get_floats("cropwindow"); !cw.empty()) {
+        if (cw.size() != 4) throw_error(f.loc, "\"cropwindow\" needs 4 values");
+        Float x0 = clamp(std::min(cw[0], cw[1]), Float(0), Float(1));
+        Float x1 = clamp(std::max(cw[0], cw[1]), Float(0), Float(1));
+        Float y0 = clamp(std::min(cw[2], cw[3]), Float(0), Float(1));
+        Float y1 = clamp(std::max(cw[2], cw[3]), Float(0), Float(1));
+        fp.x0 = int(std::ceil(fp.resolution.x * x0));
+        fp.x1 = int(std::ceil(fp.resolution.x * x1));
+        fp.y0 = int(std::ceil(fp.resolution.y * y0));
+        fp.y1 = int(std::ceil(fp.resolution.y * y1));
+    }
+    if (fp.x1 <= fp.x0 || fp.y1 <= fp.y0)
+        throw_error(f.loc, "the crop window / pixel bounds select no pixels");
+    Float iso = ps.get_float("iso", 100);
+    m_exposure_iso = iso / 100;
+    std::string sensor = ps.get_string("sensor", "cie1931");
+    if (sensor != "cie1931")
+        throw_error(f.loc, "sensor \"{}\" is not supported yet (only \"cie1931\")", sensor);
+    Float wb = ps.get_float("whitebalance", 0);
+    if (wb > 0) {
+        // White balance from the CIE daylight illuminant of that temperature.
+        Xyz w = spectrum_to_xyz(cie_d_illuminant(wb));
+        Float sum = w.x + w.y + w.z;
+        fp.rgb_from_sensor = srgb_from_xyz_white_balanced(w.x / sum, w.y / sum);
+    } else {
+        fp.rgb_from_sensor = srgb_from_xyz_matrix();
+    }
+    fp.max_component = ps.get_float("maxcomponentvalue", kInfinity);
+    fp.half_float = ps.get_bool("savefp16", false);
+    ps.get_float("diagonal", 35);  // only meaningful for the realistic camera
+    ps.check_unused("Film \"rgb\"");
+    m_s.film = fp;
+}
+
+void Builder::build_camera() {
+    const CameraDesc& c = m_d.camera;
+    std::string type = c.type.empty() ? "perspective" : c.type;
+    const ParamSet& ps = c.params;
+    CameraParams cp;
+    cp.world_from_camera = c.world_from_camera;
+    cp.resolution = m_s.film.resolution;
+    Float shutter_open = ps.get_float("shutteropen", 0);
+    Float shutter_close = ps.get_float("shutterclose", 1);
+    if (shutter_close < shutter_open) throw_error(c.loc, "shutterclose is before shutteropen");
+    m_s.film.imaging_ratio = (shutter_close - shutter_open) * m_exposure_iso;
+    Float frame = ps.get_float("frameaspectratio", Float(cp.resolution.x) / Float(cp.resolution.y));
+    if (frame > 1) {
+        cp.screen[0] = -frame;
+        cp.screen[1] = frame;
+        cp.screen[2] = -1;
+        cp.screen[3] = 1;
+    } else {
+        cp.screen[0] = -1;
+        cp.screen[1] = 1;
+        cp.screen[2] = -1 / frame;
+        cp.screen[3] = 1 / frame;
+    }
+    if (auto sw = ps.get_floats("screenwindow"); !sw.empty()) {
+        if (sw.size() != 4) throw_error(c.loc, "\"screenwindow\" needs 4 values");
+        for (int i = 0; i < 4; ++i) cp.screen[i] = sw[i];
+    }
+    cp.lens_radius = ps.get_float("lensradius", 0);
+    cp.focal_distance = ps.get_float("focaldistance", 1e6f);
+    if (type == "perspective") {
+        Float fov = ps.get_float("fov", 90);
+        if (!(fov > 0 && fov < 180)) throw_error(c.loc, "fov must be in (0, 180) degrees");
+        ps.check_unused("Camera \"perspective\"");
+        m_s.camera = std::make_unique<PerspectiveCamera>(cp, fov);
+    } else if (type == "orthographic") {
+        ps.check_unused("Camera \"orthographic\"");
+        m_s.camera = std::make_unique<OrthographicCamera>(cp);
+    } else {
+        CameraDesc cc = c;
+        cc.type = type;
+        unsupported(cc, "Camera");
+    }
+}
+
+void Builder::build_filter() {
+    const EntityDesc& f = m_d.filter;
+    std::string type = f.type.empty() ? "gaussian" : f.type;
+    const ParamSet& ps = f.params;
+    FilterType t;
+    Float def_r;
+    if (type == "box")
+        t = FilterType::Box, def_r = 0.5f;
+    else if (type == "triangle")
+        t = FilterType::Triangle, def_r = 2;
+    else if (type == "gaussian")
+        t = FilterType::Gaussian, def_r = 1.5f;
+    else {
+        EntityDesc e = f;
+        e.type = type;
+        unsupported(e, "PixelFilter");
+    }
+    Vec2 r(ps.get_float("xradius", def_r), ps.get_float("yradius", def_r));
+    if (!(r.x > 0 && r.y > 0)) throw_error(f.loc, "filter radius must be positive");
+    Float sigma = t == FilterType::Gaussian ? ps.get_float("sigma", 0.5f) : 0.5f;
+    ps.check_unused(fmt::format("PixelFilter \"{}\"", type));
+    m_s.filter = std::make_unique<Filter>(t, r, sigma);
+}
+
+void Builder::build_sampler() {
+    const EntityDesc& s = m_d.sampler;
+    std::string type = s.type.empty() ? "zsobol" : s.type;
+    const ParamSet& ps = s.params;
+    SamplerSettings ss;
+    static const std::map<std::string, std::string> names = {
+        {"independent", "independent"}, {"stratified", "stratified"},
+        {"zsobol", "zsobol"},           {"sobol", "sobol"},
+        {"paddedsobol", "paddedsobol"}, {"halton", "zsobol"},
+        {"pmj02bn", "paddedsobol"}};
+    auto it = names.find(type);
+    if (it == names.end()) {
+        EntityDesc e = s;
+        e.type = type;
+        unsupported(e, "Sampler");
+    }
+    if (it->first != it->second && type != "sobol")
+        warning(s.loc, fmt::format("Sampler \"{}\" is rendered with our \"{}\" sampler", type,
+                                   it->second));
+    ss.type = it->second;
+    int option_seed = 0;
+    if (const Param* p = m_d.options.find("seed"))
+        option_seed = p->numbers.empty() ? 0 : int(p->numbers[0]);
+    ss.seed = uint64_t(ps.get_int("seed", option_seed));
+    if (type == "stratified") {
+        ss.x_samples = ps.get_int("xsamples", 4);
+        ss.y_samples = ps.get_int("ysamples", 4);
+        ss.jitter = ps.get_bool("jitter", true);
+        if (ss.x_samples <= 0 || ss.y_samples <= 0)
+            throw_error(s.loc, "xsamples and ysamples must be positive");
+        ss.spp = ss.x_samples * ss.y_samples;
+    } else {
+        ss.spp = ps.get_int("pixelsamples", 16);
+        if (ss.spp <= 0) throw_error(s.loc, "pixelsamples must be positive");
+        ps.get_string("randomization", "");
+    }
+    if (m_o.spp_override > 0) ss.spp = m_o.spp_override;
+    ps.check_unused(fmt::format("Sampler \"{}\"", type));
+    m_s.sampler = ss;
+}
+
+void Builder::build_integrator() {
+    const EntityDesc& e = m_d.integrator;
+    std::string type = e.type.empty() ? "volpath" : e.type;
+    const ParamSet& ps = e.params;
+    IntegratorSettings is;
+    if (type == "path" || type == "volpath") {
+        if (type == "volpath" && !e.type.empty())
+            warning(e.loc,
+                    "Integrator \"volpath\" is rendered by \"path\" (no participating media)");
+        is.max_depth = ps.get_int("maxdepth", 5);
+        is.regularize = ps.get_bool("regularize", false);
+        if (is.regularize) throw_error(e.loc, "\"regularize\" is not supported yet");
+        std::string strategy = ps.get_string("strategy", "mis");
+        if (strategy == "mis")
+            is.strategy = LightStrategy::Mis;
+        else if (strategy == "bsdf")
+            is.strategy = LightStrategy::BsdfOnly;
+        else if (strategy == "light")
+            is.strategy = LightStrategy::LightOnly;
+        else
+            throw_error(e.loc, "unknown \"strategy\" \"{}\": expected mis, bsdf or light",
+                        strategy);
+    } else if (type == "simplepath") {
+        is.max_depth = ps.get_int("maxdepth", 5);
+        bool lights = ps.get_bool("samplelights", true);
+        bool bsdf = ps.get_bool("samplebsdf", true);
+        if (!bsdf) throw_error(e.loc, "\"samplebsdf\" false (uniform sampling) is not supported");
+        is.strategy = lights ? LightStrategy::LightOnly : LightStrategy::BsdfOnly;
+    } else {
+        EntityDesc ee = e;
+        ee.type = type;
+        unsupported(ee, "Integrator");
+    }
+    if (is.max_depth < 0) throw_error(e.loc, "maxdepth must be >= 0");
+    std::string ls = ps.get_string("lightsampler", "bvh");
+    if (ls == "uniform")
+        is.light_sampler = "uniform";
+    else if (ls == "power" || ls == "bvh")
+        is.light_sampler = "power";
+    else
+        throw_error(e.loc, "unknown light sampler \"{}\"", ls);
+    ps.check_unused(fmt::format("Integrator \"{}\"", type));
+    is.type = "path";
+    m_s.integrator = is;
+}
+
+}  // namespace sr::build_detail

@@ -1,0 +1,220 @@
+/// Shapes: triangle, PLY and bilinear meshes, spheres and disks, and object instances.
+#include <map>
+
+#include "steradian/scene/build/builder.h"
+#include "steradian/scene/mesh_io/ply.h"
+
+namespace sr::build_detail {
+
+std::shared_ptr<std::vector<Point3>> Builder::padded_positions(std::vector<Point3> p) {
+    p.push_back(Point3(0, 0, 0));  // Embree reads up to 16 bytes past the last vertex
+    return std::make_shared<std::vector<Point3>>(std::move(p));
+}
+
+TriangleMesh Builder::make_mesh(const ShapeDesc& s, std::vector<Point3> p, std::vector<Normal3> n,
+                                std::vector<Point2> uv, std::vector<int> idx) {
+    const Transform& x = s.world_from_object;
+    const size_t nv = p.size();
+    for (int i : idx)
+        if (i < 0 || size_t(i) >= nv)
+            throw_error(s.loc, "Shape \"{}\": vertex index {} out of range (there are {} vertices)",
+                        s.type, i, nv);
+    if (!n.empty() && n.size() != nv)
+        throw_error(s.loc, "Shape \"{}\": {} normals for {} vertices", s.type, n.size(), nv);
+    if (!uv.empty() && uv.size() != nv)
+        throw_error(s.loc, "Shape \"{}\": {} uvs for {} vertices", s.type, uv.size(), nv);
+    for (auto& v : p) {
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+            throw_error(s.loc, "Shape \"{}\": non-finite vertex position", s.type);
+        v = x.point(v);
+    }
+    for (auto& v : n) {
+        Vec3 w = x.normal(v);
+        Float l = length(w);
+        v = l > 0 ? w / l : w;
+    }
+    TriangleMesh m;
+    m.p = padded_positions(std::move(p));
+    m.n = std::make_shared<std::vector<Normal3>>(std::move(n));
+    m.uv = std::make_shared<std::vector<Point2>>(std::move(uv));
+    m.indices = std::make_shared<std::vector<uint32_t>>(idx.begin(), idx.end());
+    m.flip_normals = s.reverse_orientation != x.swaps_handedness();
+    return m;
+}
+
+std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
+    const ParamSet& ps = s.params;
+    std::string what = fmt::format("Shape \"{}\"", s.type);
+    if (s.type == "trianglemesh") {
+        auto p = ps.get_point3s("P");
+        auto idx = ps.get_ints("indices");
+        if (idx.empty() && p.size() == 3) idx = {0, 1, 2};
+        if (p.empty()) throw_error(s.loc, "{}: \"P\" is required", what);
+        if (idx.empty() || idx.size() % 3)
+            throw_error(s.loc, "{}: \"indices\" must hold a multiple of 3 values, has {}", what,
+                        idx.size());
+        auto n = ps.get_normals("N");
+        auto uv = ps.get_point2s("uv");
+        ps.get_floats("S");
+        ps.get_ints("faceIndices");
+        check_alpha(s);
+        ps.check_unused(what);
+        return make_mesh(s, std::move(p), std::move(n), std::move(uv), std::move(idx));
+    }
+    if (s.type == "plymesh") {
+        std::string file = ps.get_string("filename", "");
+        if (file.empty()) throw_error(s.loc, "{}: \"filename\" is required", what);
+        if (ps.find("displacement"))
+            throw_error(s.loc, "{}: \"displacement\" is not supported yet", what);
+        ps.get_float("edgelength", 1);
+        check_alpha(s);
+        ps.check_unused(what);
+        TriangleMeshData d;
+        try {
+            d = read_ply(resolve_path(m_d.base_dir, file));
+        } catch (const Error& e) {
+            throw_error(s.loc, "{}", e.what());
+        }
+        std::vector<int> idx(d.indices.begin(), d.indices.end());
+        return make_mesh(s, std::move(d.p), std::move(d.n), std::move(d.uv), std::move(idx));
+    }
+    if (s.type == "bilinearmesh") return make_bilinear(s);
+    if (s.type == "sphere") {
+        Sphere sp;
+        sp.world_from_object = s.world_from_object;
+        sp.radius = ps.get_float("radius", 1);
+        if (!(sp.radius > 0)) throw_error(s.loc, "{}: radius must be positive", what);
+        Float zmin = ps.get_float("zmin", -sp.radius), zmax = ps.get_float("zmax", sp.radius);
+        sp.z_min = clamp(std::min(zmin, zmax), -sp.radius, sp.radius);
+        sp.z_max = clamp(std::max(zmin, zmax), -sp.radius, sp.radius);
+        sp.theta_z_min = std::acos(clamp(std::min(zmin, zmax) / sp.radius, Float(-1), Float(1)));
+        sp.theta_z_max = std::acos(clamp(std::max(zmin, zmax) / sp.radius, Float(-1), Float(1)));
+        sp.phi_max = radians(clamp(ps.get_float("phimax", 360), Float(0), Float(360)));
+        sp.flip_normals = s.reverse_orientation != s.world_from_object.swaps_handedness();
+        check_alpha(s);
+        ps.check_unused(what);
+        return sp;
+    }
+    if (s.type == "disk") {
+        Disk d;
+        d.world_from_object = s.world_from_object;
+        d.height = ps.get_float("height", 0);
+        d.radius = ps.get_float("radius", 1);
+        d.inner_radius = ps.get_float("innerradius", 0);
+        d.phi_max = radians(clamp(ps.get_float("phimax", 360), Float(0), Float(360)));
+        if (!(d.radius > 0) || d.inner_radius < 0 || d.inner_radius >= d.radius)
+            throw_error(s.loc, "{}: need 0 <= innerradius < radius", what);
+        d.flip_normals = s.reverse_orientation != s.world_from_object.swaps_handedness();
+        check_alpha(s);
+        ps.check_unused(what);
+        return d;
+    }
+    throw_error(s.loc, "shape type \"{}\" is not supported yet (see docs/pbrt-support.md)", s.type);
+}
+
+void Builder::check_alpha(const ShapeDesc& s) {
+    if (const Param* a = s.params.find("alpha")) {
+        if (a->type == ParamType::Float && a->numbers.size() == 1 && a->numbers[0] == 1) return;
+        throw_error(a->loc, "\"alpha\" cut-outs are not supported yet");
+    }
+}
+
+ShapeGeometry Builder::make_bilinear(const ShapeDesc& s) {
+    const ParamSet& ps = s.params;
+    auto p = ps.get_point3s("P");
+    auto idx = ps.get_ints("indices");
+    if (idx.empty() && p.size() == 4) idx = {0, 1, 2, 3};
+    if (idx.empty() || idx.size() % 4)
+        throw_error(s.loc, "Shape \"bilinearmesh\": \"indices\" must hold 4 values per patch");
+    auto n = ps.get_normals("N");
+    auto uv = ps.get_point2s("uv");
+    ps.get_ints("faceIndices");
+    check_alpha(s);
+    ps.check_unused("Shape \"bilinearmesh\"");
+    for (int i : idx)
+        if (i < 0 || size_t(i) >= p.size())
+            throw_error(s.loc, "Shape \"bilinearmesh\": vertex index {} out of range", i);
+    std::vector<Point3> op;
+    std::vector<Normal3> on;
+    std::vector<Point2> ouv;
+    std::vector<int> oi;
+    bool warned = false;
+    const int kTess = 16;
+    for (size_t q = 0; q < idx.size(); q += 4) {
+        int v00 = idx[q], v10 = idx[q + 1], v01 = idx[q + 2], v11 = idx[q + 3];
+        Point3 p00 = p[v00], p10 = p[v10], p01 = p[v01], p11 = p[v11];
+        Vec3 nrm = cross(p10 - p00, p01 - p00);
+        Float scale = std::max({length(p10 - p00), length(p01 - p00), Float(1e-30)});
+        bool planar = std::abs(dot(normalize(nrm), p11 - p00)) <= 1e-5f * scale;
+        int res = planar ? 1 : kTess;
+        if (!planar && !warned) {
+            warning(s.loc, "non-planar bilinear patches are tessellated (16x16 quads)");
+            warned = true;
+        }
+        auto uvat = [&](int v, Point2 def) { return uv.empty() ? def : uv[v]; };
+        Point2 t00 = uvat(v00, {0, 0}), t10 = uvat(v10, {1, 0}), t01 = uvat(v01, {0, 1}),
+               t11 = uvat(v11, {1, 1});
+        int base = int(op.size());
+        for (int j = 0; j <= res; ++j)
+            for (int i = 0; i <= res; ++i) {
+                Float u = Float(i) / res, v = Float(j) / res;
+                op.push_back((p00 * (1 - u) + p10 * u) * (1 - v) + (p01 * (1 - u) + p11 * u) * v);
+                Point2 a = t00 * (1 - u) + t10 * u, b = t01 * (1 - u) + t11 * u;
+                ouv.push_back(a * (1 - v) + b * v);
+                if (!n.empty())
+                    on.push_back(normalize((n[v00] * (1 - u) + n[v10] * u) * (1 - v) +
+                                           (n[v01] * (1 - u) + n[v11] * u) * v));
+            }
+        for (int j = 0; j < res; ++j)
+            for (int i = 0; i < res; ++i) {
+                int a = base + j * (res + 1) + i, b = a + 1, c = a + (res + 1), d = c + 1;
+                oi.insert(oi.end(), {a, b, d, a, d, c});
+            }
+    }
+    return make_mesh(s, std::move(op), std::move(on), std::move(ouv), std::move(oi));
+}
+
+/// Adds a shape (world-level when proto is null, else to the prototype).
+void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
+    auto geom = make_geometry(s);
+    if (!geom) return;
+    ShapeEntry e;
+    e.geometry = std::move(*geom);
+    e.material = resolve_material(s.material);
+    int index = int(m_s.shapes.size());
+    if (s.area_light >= 0) {
+        if (proto)
+            throw_error(s.loc, "area lights are not supported inside ObjectBegin (as in pbrt-v4)");
+        if (e.material < 0)
+            warning(s.loc,
+                    "area light on a shape with an \"interface\" material is ignored "
+                    "(as in pbrt-v4)");
+        else
+            m_pending_area.push_back({index, s.area_light});
+    }
+    m_s.shapes.push_back(std::move(e));
+    if (proto)
+        proto->shapes.push_back(index);
+    else
+        m_s.top_level_shapes.push_back(index);
+}
+
+void Builder::build_instances() {
+    std::map<std::string, int> proto_index;
+    for (const auto& [name, def] : m_d.instances) {
+        Prototype p;
+        p.name = name;
+        for (const ShapeDesc& s : def.shapes) add_shape(s, &p);
+        proto_index[name] = int(m_s.prototypes.size());
+        m_s.prototypes.push_back(std::move(p));
+    }
+    for (const InstanceUse& u : m_d.instance_uses) {
+        auto it = proto_index.find(u.name);
+        if (it == proto_index.end())
+            throw_error(u.loc, "ObjectInstance \"{}\": no such object", u.name);
+        if (m_s.prototypes[it->second].shapes.empty()) continue;
+        m_s.instances.push_back({it->second, u.world_from_instance});
+    }
+}
+
+}  // namespace sr::build_detail

@@ -1,0 +1,95 @@
+/// Spectra from parameters: rgb, blackbody, named spectra, inline pairs and spectrum files.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "steradian/scene/build/builder.h"
+
+namespace sr {
+
+namespace {
+
+using build_detail::resolve_path;
+
+/// Reads a two-column (wavelength, value) text file.
+std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& loc) {
+    std::ifstream f(path);
+    if (!f) throw_error(loc, "cannot open spectrum file \"{}\"", path);
+    std::vector<Float> v;
+    std::string line;
+    int line_no = 0;
+    while (std::getline(f, line)) {
+        ++line_no;
+        auto hash = line.find('#');
+        if (hash != std::string::npos) line.resize(hash);
+        std::istringstream ss(line);
+        double a, b;
+        if (!(ss >> a)) continue;
+        if (!(ss >> b)) throw_error(loc, "{}:{}: expected \"wavelength value\"", path, line_no);
+        v.push_back(Float(a));
+        v.push_back(Float(b));
+    }
+    if (v.size() < 4) throw_error(loc, "spectrum file \"{}\" has fewer than two samples", path);
+    return v;
+}
+
+}  // namespace
+
+Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::string& base_dir) {
+    switch (p.type) {
+        case ParamType::Rgb: {
+            if (p.numbers.size() != 3)
+                throw_error(p.loc, "\"rgb {}\" needs 3 values, got {}", p.name, p.numbers.size());
+            Rgb c{Float(p.numbers[0]), Float(p.numbers[1]), Float(p.numbers[2])};
+            if (c.r < 0 || c.g < 0 || c.b < 0)
+                throw_error(p.loc, "\"rgb {}\" has a negative component", p.name);
+            switch (kind) {
+                case SpectrumKind::Albedo:
+                    if (c.r > 1 || c.g > 1 || c.b > 1)
+                        throw_error(p.loc,
+                                    "\"rgb {}\" is a reflectance and must be in [0, 1], got "
+                                    "[{} {} {}]",
+                                    p.name, c.r, c.g, c.b);
+                    return rgb_albedo_spectrum(c);
+                case SpectrumKind::Unbounded:
+                    return rgb_unbounded_spectrum(c);
+                case SpectrumKind::Illuminant:
+                    return rgb_illuminant_spectrum(c);
+            }
+            break;
+        }
+        case ParamType::Blackbody: {
+            if (p.numbers.size() != 1)
+                throw_error(p.loc, "\"blackbody {}\" needs one temperature", p.name);
+            if (!(p.numbers[0] > 0))
+                throw_error(p.loc, "\"blackbody {}\": temperature must be positive", p.name);
+            return BlackbodySpectrum(Float(p.numbers[0]));
+        }
+        case ParamType::Spectrum: {
+            if (!p.strings.empty()) {
+                if (p.strings.size() != 1)
+                    throw_error(p.loc, "\"spectrum {}\" expects one name or file", p.name);
+                if (auto s = named_spectrum(p.strings[0])) return *s;
+                std::string path = resolve_path(base_dir, p.strings[0]);
+                if (!std::filesystem::exists(path))
+                    throw_error(p.loc, "\"{}\" is neither a named spectrum nor a file",
+                                p.strings[0]);
+                auto pairs = read_spectrum_file(path, p.loc);
+                return densely_sampled(piecewise_linear_from_interleaved(pairs, false));
+            }
+            if (p.numbers.size() < 4 || p.numbers.size() % 2)
+                throw_error(p.loc, "\"spectrum {}\" needs (wavelength, value) pairs, at least two",
+                            p.name);
+            std::vector<Float> pairs(p.numbers.begin(), p.numbers.end());
+            for (size_t i = 2; i < pairs.size(); i += 2)
+                if (!(pairs[i] > pairs[i - 2]))
+                    throw_error(p.loc, "\"spectrum {}\": wavelengths must increase", p.name);
+            return densely_sampled(piecewise_linear_from_interleaved(pairs, false));
+        }
+        default:
+            break;
+    }
+    throw_error(p.loc, "parameter \"{} {}\" is not a spectrum", to_string(p.type), p.name);
+}
+
+}  // namespace sr

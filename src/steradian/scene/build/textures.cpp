@@ -1,0 +1,180 @@
+/// Textures: image loading, uv mappings, float and spectrum textures and texture parameters.
+#include "steradian/film/image_io.h"
+#include "steradian/scene/build/builder.h"
+
+namespace sr::build_detail {
+
+std::shared_ptr<const TextureImage> Builder::load_image(const TextureDesc& t, const ParamSet& ps) {
+    std::string file = ps.get_string("filename", "");
+    if (file.empty()) throw_error(t.loc, "imagemap texture \"{}\" needs a \"filename\"", t.name);
+    std::string path = resolve_path(m_d.base_dir, file);
+    std::string encoding = ps.get_string("encoding", "sRGB");
+    std::string wrap = ps.get_string("wrap", "repeat");
+    std::string key = path + "|" + encoding + "|" + wrap;
+    if (auto it = m_images.find(key); it != m_images.end()) return it->second;
+    auto img = std::make_shared<TextureImage>();
+    try {
+        img->image = read_image(path, encoding == "sRGB");
+    } catch (const Error& err) {
+        throw_error(t.loc, "{}", err.what());
+    }
+    if (encoding != "sRGB" && encoding != "linear") {
+        Float gamma = 0;
+        if (std::sscanf(encoding.c_str(), "gamma %f", &gamma) != 1 || gamma <= 0)
+            throw_error(t.loc, "unknown encoding \"{}\" (sRGB, linear, or \"gamma g\")", encoding);
+        for (auto& v : img->image.data) v = std::pow(std::max(0.f, v), gamma);
+    }
+    if (wrap == "repeat")
+        img->wrap = WrapMode::Repeat;
+    else if (wrap == "clamp")
+        img->wrap = WrapMode::Clamp;
+    else if (wrap == "black")
+        img->wrap = WrapMode::Black;
+    else
+        throw_error(t.loc, "unknown wrap mode \"{}\"", wrap);
+    m_images[key] = img;
+    return img;
+}
+
+UvMapping Builder::read_mapping(const TextureDesc& t, const ParamSet& ps) {
+    std::string mapping = ps.get_string("mapping", "uv");
+    if (mapping != "uv")
+        throw_error(t.loc, "texture mapping \"{}\" is not supported yet (only \"uv\")", mapping);
+    return {ps.get_float("uscale", 1), ps.get_float("vscale", 1), ps.get_float("udelta", 0),
+            ps.get_float("vdelta", 0)};
+}
+
+void Builder::build_textures() {
+    for (const TextureDesc& t : m_d.float_textures) {
+        const ParamSet& ps = t.params;
+        FloatTexture tex;
+        if (t.type == "constant") {
+            tex = ConstantFloatTexture{ps.get_float("value", 1)};
+        } else if (t.type == "imagemap") {
+            ImageFloatTexture it;
+            it.mapping = read_mapping(t, ps);
+            it.image = load_image(t, ps);
+            it.scale = ps.get_float("scale", 1);
+            it.invert = ps.get_bool("invert", false);
+            ps.get_string("filter", "bilinear");
+            ps.get_float("maxanisotropy", 8);
+            tex = it;
+        } else if (t.type == "scale") {
+            tex = ScaleFloatTexture{float_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
+        } else if (t.type == "mix") {
+            tex = MixFloatTexture{float_tex_arg(ps, "tex1", 0), float_tex_arg(ps, "tex2", 1),
+                                  float_tex_arg(ps, "amount", 0.5f)};
+        } else if (t.type == "checkerboard") {
+            check_checkerboard_dimension(t, ps);
+            tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1),
+                                           float_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
+        } else {
+            unsupported(t, "Texture");
+        }
+        ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+        m_float_tex[t.name] = int(m_s.float_textures.size());
+        m_s.float_textures.push_back(tex);
+    }
+    for (const TextureDesc& t : m_d.spectrum_textures) {
+        const ParamSet& ps = t.params;
+        if (t.type == "constant") {
+            const Param* v = ps.find_spectrum("value");
+            Spectrum s = v ? spectrum_from_param(*v, SpectrumKind::Albedo, m_d.base_dir)
+                           : Spectrum(ConstantSpectrum{1});
+            ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+            m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+            m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
+        } else if (t.type == "imagemap") {
+            build_rgb_uplift_table();  // per-lookup RGB uplift (once per process)
+            ImageSpectrumTexture it;
+            it.mapping = read_mapping(t, ps);
+            it.image = load_image(t, ps);
+            it.scale = ps.get_float("scale", 1);
+            it.invert = ps.get_bool("invert", false);
+            ps.get_string("filter", "bilinear");
+            ps.get_float("maxanisotropy", 8);
+            ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+            m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+            m_s.spectrum_textures.push_back(it);
+        } else if (t.type == "scale" || t.type == "mix" || t.type == "checkerboard") {
+            SpectrumTexture tex;
+            if (t.type == "scale") {
+                tex = ScaleSpectrumTexture{spectrum_tex_arg(ps, "tex", 1),
+                                           float_tex_arg(ps, "scale", 1)};
+            } else if (t.type == "mix") {
+                tex = MixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
+                                         spectrum_tex_arg(ps, "tex2", 1),
+                                         float_tex_arg(ps, "amount", 0.5f)};
+            } else {
+                check_checkerboard_dimension(t, ps);
+                tex = CheckerboardSpectrumTexture{spectrum_tex_arg(ps, "tex1", 1),
+                                                  spectrum_tex_arg(ps, "tex2", 0),
+                                                  read_mapping(t, ps)};
+            }
+            ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+            m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+            m_s.spectrum_textures.push_back(std::move(tex));
+        } else {
+            unsupported(t, "Texture");
+        }
+    }
+}
+
+/// pbrt-v4's checkerboard has "dimension" 2 or 3; only the 2D (uv) form is supported.
+void Builder::check_checkerboard_dimension(const TextureDesc& t, const ParamSet& ps) {
+    int dim = ps.get_int("dimension", 2);
+    if (dim == 3)
+        throw_error(ps.find("dimension")->loc,
+                    "Texture \"{}\": 3D checkerboards are not supported yet", t.name);
+    if (dim != 2)
+        throw_error(ps.find("dimension")->loc,
+                    "Texture \"{}\": \"dimension\" must be 2 or 3, not {}", t.name, dim);
+}
+
+/// An input of a composite texture: a copy of the named texture or of the constant that
+/// float_texture_param / spectrum_texture_param make (textures are immutable once built).
+std::shared_ptr<const FloatTexture> Builder::float_tex_arg(const ParamSet& ps,
+                                                           std::string_view name, Float def) {
+    return std::make_shared<const FloatTexture>(
+        m_s.float_textures[size_t(float_texture_param(ps, name, def))]);
+}
+
+std::shared_ptr<const SpectrumTexture> Builder::spectrum_tex_arg(const ParamSet& ps,
+                                                                 std::string_view name, Float def) {
+    return std::make_shared<const SpectrumTexture>(
+        m_s.spectrum_textures[size_t(spectrum_texture_param(ps, name, def))]);
+}
+
+/// A spectrum-texture index for material parameter `name`: a texture reference, an
+/// inline spectrum, or the default constant.
+int Builder::spectrum_texture_param(const ParamSet& ps, std::string_view name, Float def) {
+    if (auto tn = ps.find_texture(name)) {
+        auto it = m_spec_tex.find(*tn);
+        if (it == m_spec_tex.end()) {
+            const Param* p = ps.find(name);
+            throw_error(p ? p->loc : SourceLoc{}, "unknown spectrum texture \"{}\"", *tn);
+        }
+        return it->second;
+    }
+    Spectrum s = ConstantSpectrum{def};
+    if (const Param* p = ps.find_spectrum(name))
+        s = spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir);
+    m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
+    return int(m_s.spectrum_textures.size()) - 1;
+}
+
+/// A float-texture index for parameter `name`: a texture reference, a float, or `def`.
+int Builder::float_texture_param(const ParamSet& ps, std::string_view name, Float def) {
+    if (auto tn = ps.find_texture(name)) {
+        auto it = m_float_tex.find(*tn);
+        if (it == m_float_tex.end()) {
+            const Param* p = ps.find(name);
+            throw_error(p ? p->loc : SourceLoc{}, "unknown float texture \"{}\"", *tn);
+        }
+        return it->second;
+    }
+    m_s.float_textures.push_back(ConstantFloatTexture{ps.get_float(name, def)});
+    return int(m_s.float_textures.size()) - 1;
+}
+
+}  // namespace sr::build_detail
