@@ -201,6 +201,23 @@ status=$?
 check "a second SIGINT exits at once with 130" test $status -eq 130 -a $((SECONDS - start)) -lt 3
 check "a second SIGINT writes nothing" test ! -e "$tmp/int2.pfm"
 
+# A 68-byte PNG whose header declares 16000 x 16000 RGB pixels is refused from its header
+# (it took 4 GB and 85 s before), with the limit named.
+python3 - "$tmp/huge.png" <<'PY'
+import struct, sys, zlib
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 16000, 16000, 8, 2, 0, 0, 0))
+png += chunk(b"IDAT", zlib.compress(b"\0" * 16)) + chunk(b"IEND", b"")
+open(sys.argv[1], "wb").write(png)
+PY
+sed 's|Material "diffuse" "rgb reflectance" \[ 0.5 0.5 0.5 \]|Texture "t" "spectrum" "imagemap" "string filename" "huge.png"\nMaterial "diffuse" "texture reflectance" "t"|' "$tmp/small.pbrt" > "$tmp/huge.pbrt"
+start=$SECONDS
+"$bin" render "$tmp/huge.pbrt" -o "$tmp/huge.exr" --quiet > "$tmp/huge.txt" 2>&1
+check "an image declaring 16000 x 16000 pixels is refused" test $? -ne 0 -a $((SECONDS - start)) -lt 5
+check "the refusal names the limit" grep -q "more than the limit" "$tmp/huge.txt"
+check "the refusal names the texture's line" grep -q "huge.pbrt:7:1" "$tmp/huge.txt"
+
 # A --time shorter than one pass still renders the first pass (1 spp): not a black image.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1
 check "--time shorter than a pass exits 0" test $? -eq 0

@@ -49,6 +49,9 @@ Image read_pfm(const std::string& path) {
     if ((magic != "PF" && magic != "Pf") || w <= 0 || h <= 0 || scale == 0)
         throw Error(fmt::format("{}: not a valid PFM file", path));
     int ch = magic == "PF" ? 3 : 1;
+    if (double(w) * h * ch > kMaxImageValues)
+        throw Error(fmt::format("{}: the PFM declares {} x {} pixels, more than the limit of {} "
+                                "values", path, w, h, kMaxImageValues));
     bool big_endian = scale > 0;
     Image img;
     img.width = w;
@@ -131,6 +134,14 @@ Image read_image(const std::string& path, bool srgb_decode) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error(fmt::format("{}: cannot read image: {}", path, OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
+    // The header's size is checked before a buffer of that size is allocated: a 68-byte PNG
+    // can declare 16000 x 16000 pixels.
+    const double values = double(spec.width) * spec.height * spec.nchannels;
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || values > kMaxImageValues)
+        throw Error(fmt::format("{}: the image declares {} x {} pixels of {} channels, more than "
+                                "the limit of {} values ({} GiB as floats)",
+                                path, spec.width, spec.height, spec.nchannels, kMaxImageValues,
+                                kMaxImageValues * 4 / (1 << 30)));
     Image img;
     img.width = spec.width;
     img.height = spec.height;

@@ -1,6 +1,7 @@
 #pragma once
 /// Image files: EXR (linear float, through OpenImageIO), PFM (our own writer/reader), PNG
 /// and other 8-bit formats (sRGB-encoded) through OpenImageIO.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ void write_image(const std::string& path, const Image& rgb, const WriteOptions& 
 /// extension names a format we write (and .exr for one channel), and the directory exists
 /// or can be created and is writable. For checking outputs before rendering.
 void check_image_output(const std::string& path, int channels = 3);
+
+/// The most values (pixels x channels) an image read may have: 2^28 (1 GiB as floats; e.g.
+/// 8192 x 8192 x 4, or a 16384 x 8192 environment map of 2 channels). Larger images are
+/// refused from their header, before any allocation.
+inline constexpr int64_t kMaxImageValues = int64_t(1) << 28;
 
 /// Reads an image. 8-bit (and 16-bit integer) images are sRGB-decoded to linear when
 /// srgb_decode is true; float images are returned as stored. Throws sr::Error.
