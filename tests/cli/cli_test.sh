@@ -218,6 +218,23 @@ check "an image declaring 16000 x 16000 pixels is refused" test $? -ne 0 -a $((S
 check "the refusal names the limit" grep -q "more than the limit" "$tmp/huge.txt"
 check "the refusal names the texture's line" grep -q "huge.pbrt:7:1" "$tmp/huge.txt"
 
+# Non-finite or unrepresentable cameras, lights, meters and transforms are errors at their
+# file:line:col (they aborted inside Embree, exit 134, or rendered nothing).
+bad_scene() {  # bad_scene NAME "CAMERA LINES" "WORLD LINES"
+  printf '%b\nCamera "perspective"\nFilm "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]\nWorldBegin\n%b\nShape "sphere"\n' "$2" "$3" > "$tmp/$1.pbrt"
+}
+bad_scene zero-up "LookAt 0 0 -3  0 0 0  0 0 0" 'LightSource "point"'
+bad_scene far-camera "LookAt 3e38 0 -3  0 0 0  0 1 0" 'LightSource "point"'
+bad_scene far-light "LookAt 0 0 -3  0 0 0  0 1 0" 'AttributeBegin\nTranslate 3e38 0 0\nLightSource "point"\nAttributeEnd'
+bad_scene far-meter "LookAt 0 0 -3  0 0 0  0 1 0" 'LightSource "point"\nMeter "illuminance" "point3 p" [ 3e38 0 0 ] "normal n" [ 0 0 1 ]'
+for case in zero-up:1:1 far-camera:2:1 far-light:7:1 far-meter:6:1; do
+  name=${case%%:*}
+  "$bin" render "$tmp/$name.pbrt" -o "$tmp/$name.exr" --quiet > "$tmp/$name.txt" 2>&1
+  status=$?
+  check "$name: exits 1 (not an abort)" test $status -eq 1
+  check "$name: error at its file:line:col" grep -q "$name.pbrt:${case#*:}" "$tmp/$name.txt"
+done
+
 # A --time shorter than one pass still renders the first pass (1 spp): not a black image.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1
 check "--time shorter than a pass exits 0" test $? -eq 0

@@ -103,13 +103,25 @@ Transform Transform::rotate(double theta_deg, Vec3d axis) {
     return {m, m.transposed()};
 }
 
+bool Transform::is_finite() const {
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (!std::isfinite(m_m.m[i][j]) || !std::isfinite(m_inv.m[i][j])) return false;
+    return true;
+}
+
 Transform Transform::look_at(Vec3d pos, Vec3d look, Vec3d up) {
+    // Written as !(x > 0) so that NaN and infinite inputs are errors too (a zero up vector
+    // used to give a NaN transform, and an abort inside Embree at the first ray).
     Vec3d dir = look - pos;
-    if (length(dir) == 0) throw Error("LookAt: eye and look-at points coincide");
+    if (!(length(dir) > 0) || !std::isfinite(length(dir)))
+        throw Error("LookAt: eye and look-at points coincide or are not finite");
     dir = normalize(dir);
+    if (!(length(up) > 0) || !std::isfinite(length(up)))
+        throw Error("LookAt: the up vector is zero or not finite");
     Vec3d upn = normalize(up);
     Vec3d right = cross(upn, dir);
-    if (length(right) == 0) throw Error("LookAt: up vector is parallel to the viewing direction");
+    if (!(length(right) > 0)) throw Error("LookAt: up vector is parallel to the viewing direction");
     right = normalize(right);
     Vec3d new_up = cross(dir, right);
     // world-from-camera: columns right, up, dir, pos

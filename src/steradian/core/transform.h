@@ -47,6 +47,8 @@ public:
     Transform operator*(const Transform& o) const { return {m_m * o.m_m, o.m_inv * m_inv}; }
     bool operator==(const Transform& o) const { return m_m == o.m_m; }
     bool is_identity() const { return m_m.is_identity(); }
+    /// Every entry of the matrix and of its inverse is finite.
+    bool is_finite() const;
     /// True if the transform flips handedness (negative determinant of the 3x3 part).
     bool swaps_handedness() const;
 

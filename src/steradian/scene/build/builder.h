@@ -23,6 +23,26 @@ inline std::string resolve_path(const std::string& base_dir, const std::string& 
     throw_error(e.loc, "{} \"{}\" is not supported yet (see docs/pbrt-support.md)", what, e.type);
 }
 
+/// The largest coordinate accepted for a camera, light or meter position: Embree 3 requires
+/// ray origins and directions below 1.844e18 in magnitude (FLT_LARGE, kernels/common/ray.h)
+/// and aborts otherwise; 1e17 leaves room for the differences rays are made of.
+inline constexpr double kMaxCoordinate = 1e17;
+
+/// Throws at `loc` unless `t` and its inverse are finite (a singular or overflowing
+/// transformation: a zero scale, a matrix of huge values, a NaN from arithmetic).
+inline void check_transform(const Transform& t, const SourceLoc& loc, std::string_view what) {
+    if (!t.is_finite())
+        throw_error(loc, "{}: the transformation (or its inverse) is not finite", what);
+}
+
+/// Throws at `loc` unless every coordinate of `p` is finite and within kMaxCoordinate.
+inline void check_position(Point3 p, const SourceLoc& loc, std::string_view what) {
+    for (int i = 0; i < 3; ++i)
+        if (!(std::abs(double(p[i])) <= kMaxCoordinate))
+            throw_error(loc, "{} is at ({}, {}, {}): coordinates must be finite and within "
+                        "+-{:g}", what, p.x, p.y, p.z, kMaxCoordinate);
+}
+
 class Builder {
   public:
     Builder(const SceneDesc& d, const BuildOptions& o) : m_d(d), m_o(o) {}

@@ -35,6 +35,13 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
     const ParamSet& ps = l.params;
     std::string what = fmt::format("LightSource \"{}\"", l.type);
     const Transform& x = l.world_from_light;
+    check_transform(x, l.loc, what);
+    if (l.type == "point" || l.type == "spot" || l.type == "goniometric") {
+        // ("from" is a parameter of point and spot lights only.)
+        Point3 from = l.type == "goniometric" ? Point3(0, 0, 0)
+                                              : ps.find_point3("from").value_or(Point3(0, 0, 0));
+        check_position(x.point(from), l.loc, "the light");
+    }
     if (l.type == "point") {
         PointLight pl;
         Spectrum I = illum_param(ps, "I");

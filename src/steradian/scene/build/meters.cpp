@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include "steradian/scene/build.h"
+#include "steradian/scene/build/builder.h"
 #include "steradian/scene/desc.h"
 #include "steradian/sensors/meter.h"
 
@@ -148,6 +149,11 @@ Meter build_meter(const MeterDesc& d, size_t index) {
         m.cone_half_angle = radians(cone);
     }
     ps.check_unused(what);
+    build_detail::check_transform(x, d.loc, what);
+    for (Point3 p : m.points) build_detail::check_position(p, d.loc, "a measuring point");
+    for (Vec3 v : m.directions)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+            throw_error(d.loc, "{}: a direction or normal is not finite", what);
     return m;
 }
 

@@ -82,6 +82,8 @@ void Builder::build_camera() {
     const ParamSet& ps = c.params;
     CameraParams cp;
     cp.world_from_camera = c.world_from_camera;
+    check_transform(c.world_from_camera, c.loc, "the camera");
+    check_position(c.world_from_camera.point(Point3(0, 0, 0)), c.loc, "the camera");
     cp.resolution = m_s.film.resolution;
     Float shutter_open = ps.get_float("shutteropen", 0);
     Float shutter_close = ps.get_float("shutterclose", 1);

@@ -176,6 +176,7 @@ ShapeGeometry Builder::make_bilinear(const ShapeDesc& s) {
 
 /// Adds a shape (world-level when proto is null, else to the prototype).
 void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
+    check_transform(s.world_from_object, s.loc, fmt::format("Shape \"{}\"", s.type));
     auto geom = make_geometry(s);
     if (!geom) return;
     ShapeEntry e;
@@ -212,6 +213,7 @@ void Builder::build_instances() {
         auto it = proto_index.find(u.name);
         if (it == proto_index.end())
             throw_error(u.loc, "ObjectInstance \"{}\": no such object", u.name);
+        check_transform(u.world_from_instance, u.loc, "ObjectInstance");
         if (m_s.prototypes[it->second].shapes.empty()) continue;
         m_s.instances.push_back({it->second, u.world_from_instance});
     }
