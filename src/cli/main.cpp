@@ -320,7 +320,7 @@ int main(int argc, char** argv) {
         ->allow_extra_args(false)
         ->take_all();
     render->add_option("--spp", spp, "samples per pixel (default: the scene's Sampler)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, sr::kMaxSamplesPerPixel));
     render->add_option("--threads", threads, "worker threads (default: all cores)")
         ->check(CLI::Range(0, kMaxThreads));
     render->add_option("--seed", seed, "random seed added to the scene's sampler seed")

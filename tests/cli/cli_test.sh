@@ -166,7 +166,7 @@ check "measure --time reports unconverged values" grep -q '"converged": false' "
 
 # SIGINT / SIGTERM: the first signal lets the pass in flight finish, the completed passes are
 # written, and the exit status is 128 + the signal; a second signal exits at once.
-"$bin" render "$tmp/small.pbrt" -o "$tmp/int.pfm" --spp 100000000 > "$tmp/int.txt" 2>&1 &
+"$bin" render "$tmp/small.pbrt" -o "$tmp/int.pfm" --spp 10000000 > "$tmp/int.txt" 2>&1 &
 pid=$!
 sleep 1.5
 kill -INT $pid
@@ -174,7 +174,7 @@ wait $pid
 check "SIGINT during render exits 130" test $? -eq 130
 check "SIGINT during render writes the completed passes" test -s "$tmp/int.pfm"
 check "SIGINT during render says so" grep -q "interrupted" "$tmp/int.txt"
-"$bin" render "$tmp/small.pbrt" -o "$tmp/term.pfm" --spp 100000000 --quiet > "$tmp/term.txt" 2>&1 &
+"$bin" render "$tmp/small.pbrt" -o "$tmp/term.pfm" --spp 10000000 --quiet > "$tmp/term.txt" 2>&1 &
 pid=$!
 sleep 1.5
 kill -TERM $pid
@@ -234,6 +234,20 @@ for case in zero-up:1:1 far-camera:2:1 far-light:7:1 far-meter:6:1; do
   check "$name: exits 1 (not an abort)" test $status -eq 1
   check "$name: error at its file:line:col" grep -q "$name.pbrt:${case#*:}" "$tmp/$name.txt"
 done
+
+# Counts and sizes that are multiplied are checked, with a located error: a stratified
+# 65536 x 65536 overflowed int and rendered black with exit 0; a 2e9-pixel-wide film failed
+# with "cannot create std::vector larger than max_size()" and no location.
+sed 's|Sampler "independent" "integer pixelsamples" \[ 4 \]|Sampler "stratified" "integer xsamples" [ 65536 ] "integer ysamples" [ 65536 ]|' "$tmp/small.pbrt" > "$tmp/strat.pbrt"
+"$bin" render "$tmp/strat.pbrt" -o "$tmp/strat.exr" --quiet > "$tmp/strat.txt" 2>&1
+check "stratified 65536 x 65536 is an error" test $? -eq 1
+check "stratified overflow names its line" grep -q "strat.pbrt:4:1" "$tmp/strat.txt"
+sed 's|"integer xresolution" \[ 16 \]|"integer xresolution" [ 2000000000 ]|' "$tmp/small.pbrt" > "$tmp/wide.pbrt"
+"$bin" render "$tmp/wide.pbrt" -o "$tmp/wide.exr" --quiet > "$tmp/wide.txt" 2>&1
+check "a 2e9-pixel-wide film is an error" test $? -eq 1
+check "the film size error names its line" grep -q "wide.pbrt:3:1: film resolution" "$tmp/wide.txt"
+"$bin" render "$tmp/small.pbrt" -o "$tmp/s.exr" --spp 2000000000 --quiet > "$tmp/spp.txt" 2>&1
+check "--spp 2e9 is rejected" test $? -ne 0
 
 # A --time shorter than one pass still renders the first pass (1 spp): not a black image.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1

@@ -19,6 +19,14 @@ namespace sr {
 
 class Accel;
 
+/// The most samples per pixel accepted (from the scene or --spp): sample indices are ints,
+/// and the zsobol sampler's index holds log2(spp) bits beside two 16-bit pixel coordinates.
+inline constexpr int kMaxSamplesPerPixel = 1 << 26;
+/// The largest film side, and the most pixels a film may have (its accumulators take 32
+/// bytes a pixel: 8 GiB at the limit, a 16384 x 16384 image).
+inline constexpr int kMaxFilmSide = 1 << 16;
+inline constexpr int64_t kMaxFilmPixels = int64_t(1) << 28;
+
 struct SamplerSettings {
     std::string type = "zsobol";
     int spp = 16;

@@ -30,6 +30,12 @@ void Builder::build_film() {
     fp.resolution = Vec2i(ps.get_int("xresolution", 1280), ps.get_int("yresolution", 720));
     if (fp.resolution.x <= 0 || fp.resolution.y <= 0)
         throw_error(f.loc, "film resolution must be positive");
+    if (fp.resolution.x > kMaxFilmSide || fp.resolution.y > kMaxFilmSide ||
+        int64_t(fp.resolution.x) * fp.resolution.y > kMaxFilmPixels)
+        throw_error(f.loc,
+                    "film resolution {} x {} is too large: at most {} pixels a side and {} "
+                    "pixels in all",
+                    fp.resolution.x, fp.resolution.y, kMaxFilmSide, kMaxFilmPixels);
     fp.filename = ps.get_string("filename", "pbrt.exr");
     fp.x0 = 0;
     fp.x1 = fp.resolution.x;
@@ -176,10 +182,16 @@ void Builder::build_sampler() {
         ss.jitter = ps.get_bool("jitter", true);
         if (ss.x_samples <= 0 || ss.y_samples <= 0)
             throw_error(s.loc, "xsamples and ysamples must be positive");
+        // Checked in 64 bits: 65536 x 65536 overflowed int and rendered a black image.
+        if (int64_t(ss.x_samples) * ss.y_samples > kMaxSamplesPerPixel)
+            throw_error(s.loc, "xsamples x ysamples = {} x {} is more than {} samples per pixel",
+                        ss.x_samples, ss.y_samples, kMaxSamplesPerPixel);
         ss.spp = ss.x_samples * ss.y_samples;
     } else {
         ss.spp = ps.get_int("pixelsamples", 16);
         if (ss.spp <= 0) throw_error(s.loc, "pixelsamples must be positive");
+        if (ss.spp > kMaxSamplesPerPixel)
+            throw_error(s.loc, "pixelsamples {} is more than {}", ss.spp, kMaxSamplesPerPixel);
         ps.get_string("randomization", "");
     }
     if (m_o.spp_override > 0) ss.spp = m_o.spp_override;
