@@ -249,6 +249,25 @@ check "the film size error names its line" grep -q "wide.pbrt:3:1: film resoluti
 "$bin" render "$tmp/small.pbrt" -o "$tmp/s.exr" --spp 2000000000 --quiet > "$tmp/spp.txt" 2>&1
 check "--spp 2e9 is rejected" test $? -ne 0
 
+# Only regular files are read, up to a size limit the error names: Include "/dev/zero" read
+# until memory ran out.
+truncate -s 5G "$tmp/huge-sparse.pbrt"
+ln -s /dev/zero "$tmp/zero.ies"
+for inc in 'Include "/dev/zero"' "Include \"$tmp\"" "Include \"$tmp/huge-sparse.pbrt\"" \
+           'Shape "plymesh" "string filename" "/dev/zero"' \
+           "LightSource \"goniometric\" \"string filename\" \"$tmp/zero.ies\""; do
+  printf 'Camera "perspective"\nWorldBegin\n%s\n' "$inc" > "$tmp/inc.pbrt"
+  start=$SECONDS
+  timeout 60 "$bin" render "$tmp/inc.pbrt" -o "$tmp/inc.exr" --quiet > "$tmp/inc.txt" 2>&1
+  status=$?
+  check "$inc: refused at once" test $status -eq 1 -a $((SECONDS - start)) -lt 5
+  check "$inc: located" grep -q "inc.pbrt:3:" "$tmp/inc.txt"
+done
+printf 'Camera "perspective"\nWorldBegin\nInclude "%s"\n' "$tmp/huge-sparse.pbrt" > "$tmp/inc.pbrt"
+"$bin" render "$tmp/inc.pbrt" -o "$tmp/inc.exr" --quiet > "$tmp/inc.txt" 2>&1
+check "a file over the size limit is refused, naming the limit" grep -q "more than the limit" "$tmp/inc.txt"
+rm -f "$tmp/huge-sparse.pbrt"
+
 # A --time shorter than one pass still renders the first pass (1 spp): not a black image.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1
 check "--time shorter than a pass exits 0" test $? -eq 0

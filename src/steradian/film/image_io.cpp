@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "steradian/core/error.h"
+#include "steradian/core/input_file.h"
 #include "steradian/core/output_file.h"
 #include "steradian/spectrum/color.h"
 
@@ -130,6 +131,7 @@ void write_image(const std::string& path, const Image& img, const WriteOptions& 
 
 Image read_image(const std::string& path, bool srgb_decode) {
     if (!std::filesystem::exists(path)) throw Error(fmt::format("{}: file not found", path));
+    check_regular_file(path, kMaxSceneFileBytes, "image");
     if (extension(path) == ".pfm") return read_pfm(path);
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error(fmt::format("{}: cannot read image: {}", path, OIIO::geterror()));

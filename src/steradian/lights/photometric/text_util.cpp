@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "steradian/core/error.h"
+#include "steradian/core/input_file.h"
 
 namespace sr::photometric_detail {
 
@@ -80,12 +81,7 @@ std::string quoted(std::string_view token) {
 }
 
 std::string read_file_text(const std::string& path, const char* what) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(fmt::format("{}: cannot open {}", path, what));
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw Error(fmt::format("{}: error while reading {}", path, what));
-    return ss.str();
+    return read_regular_file(path, kMaxSmallFileBytes, what);
 }
 
 }  // namespace sr::photometric_detail

@@ -31,8 +31,14 @@ Builder::Luminaire Builder::make_luminaire(const LightDesc& l) {
     const std::string ext = lower_extension(*file);
     std::string path = resolve_path(m_d.base_dir, *file);
     if (ext != ".ies" && ext != ".ldt") return make_image_goniometric(l, path, *file);
-    auto data =
-        std::make_shared<PhotometricData>(ext == ".ldt" ? read_eulumdat(path) : read_ies(path));
+    std::shared_ptr<PhotometricData> data;
+    try {
+        data = std::make_shared<PhotometricData>(ext == ".ldt" ? read_eulumdat(path)
+                                                               : read_ies(path));
+    } catch (const Error& e) {
+        if (!e.loc().file.empty()) throw;  // located in the photometric file itself
+        throw_error(ps.find("filename")->loc, "{}: {}", what, e.what());
+    }
     // The lamp spectrum gives the shape only: normalised to unit photometric value, so
     // I_e(lambda) = I_v * S(lambda) / integral(S ybar) (course notes eq. 12-17 with
     // K_m folded into the scene unit, docs/units.md).

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "steradian/core/input_file.h"
 #include "steradian/scene/build/builder.h"
 
 namespace sr {
@@ -13,8 +14,12 @@ using build_detail::resolve_path;
 
 /// Reads a two-column (wavelength, value) text file.
 std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& loc) {
-    std::ifstream f(path);
-    if (!f) throw_error(loc, "cannot open spectrum file \"{}\"", path);
+    std::istringstream f;
+    try {
+        f.str(read_regular_file(path, kMaxSmallFileBytes, "spectrum file"));
+    } catch (const Error& e) {
+        throw Error(loc, e.what());
+    }
     std::vector<Float> v;
     std::string line;
     int line_no = 0;

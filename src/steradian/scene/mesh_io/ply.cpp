@@ -17,6 +17,8 @@
 #include <system_error>
 #include <vector>
 
+#include "steradian/core/input_file.h"
+
 namespace sr {
 namespace {
 
@@ -875,9 +877,12 @@ TriangleMeshData parse_ply(std::string_view bytes, const std::string& name) {
 }
 
 TriangleMeshData read_ply(const std::string& path) {
-    std::error_code ec;
-    const std::uintmax_t size = std::filesystem::file_size(path, ec);
-    if (ec) fail(path, 0, "cannot read file: {}", ec.message());
+    std::uintmax_t size = 0;
+    try {
+        size = check_regular_file(path, kMaxSceneFileBytes, "PLY file");
+    } catch (const Error& e) {
+        fail(path, 0, "{}", e.what());
+    }
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                          &std::fclose);
     if (!file) fail(path, 0, "cannot open file: {}", std::strerror(errno));

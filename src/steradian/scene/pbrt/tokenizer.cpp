@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "steradian/core/input_file.h"
+
 namespace sr::pbrt {
 
 std::string_view to_string(TokenKind k) {
@@ -74,15 +76,12 @@ std::unique_ptr<Tokenizer> Tokenizer::from_file(const std::string& path, const S
     };
     if (path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0)
         return fail("gzip-compressed scene files are not supported; decompress it first");
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) return fail(std::strerror(errno));
     std::string contents;
-    char buf[1 << 16];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof(buf), f)) > 0) contents.append(buf, n);
-    bool bad = std::ferror(f) != 0;
-    std::fclose(f);
-    if (bad) return fail("read error");
+    try {
+        contents = read_regular_file(path, kMaxSceneFileBytes, "scene file");
+    } catch (const Error& e) {
+        throw Error(where ? *where : SourceLoc{}, e.what());
+    }
     return std::make_unique<Tokenizer>(std::move(contents), path);
 }
 

@@ -1,0 +1,44 @@
+#include "steradian/core/input_file.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+#include "steradian/core/error.h"
+
+namespace sr {
+
+uint64_t check_regular_file(const std::string& path, uint64_t limit, std::string_view what) {
+    auto fail = [&](const std::string& why) {
+        throw Error(fmt::format("cannot read {} \"{}\": {}", what, path, why));
+    };
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(st))
+        fail(ec ? ec.message() : std::string("no such file"));
+    if (std::filesystem::is_directory(st)) fail("it is a directory");
+    if (!std::filesystem::is_regular_file(st))
+        fail("not a regular file (a device, FIFO or socket)");
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    if (ec) fail(ec.message());
+    if (size > limit)
+        fail(fmt::format("{} bytes, more than the limit of {} bytes ({} MiB)", size, limit,
+                         limit >> 20));
+    return size;
+}
+
+std::string read_regular_file(const std::string& path, uint64_t limit, std::string_view what) {
+    const uint64_t size = check_regular_file(path, limit, what);
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!f) throw Error(fmt::format("cannot read {} \"{}\": {}", what, path, std::strerror(errno)));
+    std::string contents(size, '\0');
+    const size_t got = size > 0 ? std::fread(contents.data(), 1, size, f.get()) : 0;
+    if (got != size || std::ferror(f.get()))
+        throw Error(fmt::format("cannot read {} \"{}\": read error after {} of {} bytes", what,
+                                path, got, size));
+    return contents;
+}
+
+}  // namespace sr
