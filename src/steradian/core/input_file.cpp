@@ -10,22 +10,27 @@
 
 namespace sr {
 
-uint64_t check_regular_file(const std::string& path, uint64_t limit, std::string_view what) {
-    auto fail = [&](const std::string& why) {
-        throw Error(fmt::format("cannot read {} \"{}\": {}", what, path, why));
-    };
+std::string regular_file_problem(const std::string& path, uint64_t limit, uint64_t* size) {
     std::error_code ec;
     const std::filesystem::file_status st = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(st))
-        fail(ec ? ec.message() : std::string("no such file"));
-    if (std::filesystem::is_directory(st)) fail("it is a directory");
+    if (!std::filesystem::exists(st)) return std::generic_category().message(ENOENT);
+    if (ec) return ec.message();
+    if (std::filesystem::is_directory(st)) return "it is a directory";
     if (!std::filesystem::is_regular_file(st))
-        fail("not a regular file (a device, FIFO or socket)");
-    const uint64_t size = std::filesystem::file_size(path, ec);
-    if (ec) fail(ec.message());
-    if (size > limit)
-        fail(fmt::format("{} bytes, more than the limit of {} bytes ({} MiB)", size, limit,
-                         limit >> 20));
+        return "not a regular file (a device, FIFO or socket)";
+    const uint64_t n = std::filesystem::file_size(path, ec);
+    if (ec) return ec.message();
+    if (n > limit)
+        return fmt::format("{} bytes, more than the limit of {} bytes ({} MiB)", n, limit,
+                           limit >> 20);
+    if (size) *size = n;
+    return "";
+}
+
+uint64_t check_regular_file(const std::string& path, uint64_t limit, std::string_view what) {
+    uint64_t size = 0;
+    if (std::string why = regular_file_problem(path, limit, &size); !why.empty())
+        throw Error(fmt::format("cannot read {} \"{}\": {}", what, path, why));
     return size;
 }
 

@@ -13,6 +13,12 @@ namespace sr {
 inline constexpr uint64_t kMaxSceneFileBytes = uint64_t(4) << 30;
 inline constexpr uint64_t kMaxSmallFileBytes = uint64_t(64) << 20;
 
+/// Why `path` cannot be read as a regular file of at most `limit` bytes (strerror(ENOENT),
+/// "not a regular file ...", "N bytes, more than the limit of ..."), or "" if it can; its size
+/// goes to *size.
+std::string regular_file_problem(const std::string& path, uint64_t limit,
+                                 uint64_t* size = nullptr);
+
 /// Throws sr::Error("cannot read <what> \"<path>\": <why>") unless `path` is a regular file
 /// of at most `limit` bytes; returns its size.
 uint64_t check_regular_file(const std::string& path, uint64_t limit, std::string_view what);

@@ -81,6 +81,8 @@ std::string quoted(std::string_view token) {
 }
 
 std::string read_file_text(const std::string& path, const char* what) {
+    if (std::string why = regular_file_problem(path, kMaxSmallFileBytes); !why.empty())
+        throw Error(fmt::format("{}: cannot open {}: {}", path, what, why));
     return read_regular_file(path, kMaxSmallFileBytes, what);
 }
 

@@ -877,12 +877,9 @@ TriangleMeshData parse_ply(std::string_view bytes, const std::string& name) {
 }
 
 TriangleMeshData read_ply(const std::string& path) {
-    std::uintmax_t size = 0;
-    try {
-        size = check_regular_file(path, kMaxSceneFileBytes, "PLY file");
-    } catch (const Error& e) {
-        fail(path, 0, "{}", e.what());
-    }
+    uint64_t size = 0;
+    if (std::string why = regular_file_problem(path, kMaxSceneFileBytes, &size); !why.empty())
+        fail(path, 0, "cannot read file: {}", why);
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                          &std::fclose);
     if (!file) fail(path, 0, "cannot open file: {}", std::strerror(errno));
