@@ -227,7 +227,8 @@ bad_scene zero-up "LookAt 0 0 -3  0 0 0  0 0 0" 'LightSource "point"'
 bad_scene far-camera "LookAt 3e38 0 -3  0 0 0  0 1 0" 'LightSource "point"'
 bad_scene far-light "LookAt 0 0 -3  0 0 0  0 1 0" 'AttributeBegin\nTranslate 3e38 0 0\nLightSource "point"\nAttributeEnd'
 bad_scene far-meter "LookAt 0 0 -3  0 0 0  0 1 0" 'LightSource "point"\nMeter "illuminance" "point3 p" [ 3e38 0 0 ] "normal n" [ 0 0 1 ]'
-for case in zero-up:1:1 far-camera:2:1 far-light:7:1 far-meter:6:1; do
+bad_scene huge-sphere "LookAt 0 0 -3  0 0 0  0 1 0" 'AreaLightSource "diffuse"\nShape "sphere" "float radius" [ 1e20 ]'
+for case in zero-up:1:1 far-camera:2:1 far-light:7:1 far-meter:6:1 huge-sphere:6:1; do
   name=${case%%:*}
   "$bin" render "$tmp/$name.pbrt" -o "$tmp/$name.exr" --quiet > "$tmp/$name.txt" 2>&1
   status=$?

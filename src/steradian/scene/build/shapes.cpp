@@ -174,11 +174,36 @@ ShapeGeometry Builder::make_bilinear(const ShapeDesc& s) {
     return make_mesh(s, std::move(op), std::move(on), std::move(ouv), std::move(oi));
 }
 
+namespace {
+
+/// Throws at the shape unless all of it lies within kMaxCoordinate: beyond it Embree cannot
+/// trace the rays that leave it (a sphere of radius 1e20 around the camera disappeared from
+/// the image). Meshes: every vertex; spheres and disks: the corners of their object boxes.
+void check_extent(const ShapeGeometry& g, const ShapeDesc& s) {
+    const std::string what = fmt::format("Shape \"{}\"", s.type);
+    auto corners = [&](const Transform& x, Float r, Float z0, Float z1) {
+        for (Float cx : {-r, r})
+            for (Float cy : {-r, r})
+                for (Float cz : {z0, z1})
+                    check_position(x.point(Point3(cx, cy, cz)), s.loc, what + ": a point of it");
+    };
+    if (const auto* mesh = std::get_if<TriangleMesh>(&g)) {
+        for (const Point3& p : *mesh->p) check_position(p, s.loc, what + ": a vertex");
+    } else if (const auto* sp = std::get_if<Sphere>(&g)) {
+        corners(sp->world_from_object, sp->radius, -sp->radius, sp->radius);
+    } else if (const auto* d = std::get_if<Disk>(&g)) {
+        corners(d->world_from_object, d->radius, d->height, d->height);
+    }
+}
+
+}  // namespace
+
 /// Adds a shape (world-level when proto is null, else to the prototype).
 void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
     check_transform(s.world_from_object, s.loc, fmt::format("Shape \"{}\"", s.type));
     auto geom = make_geometry(s);
     if (!geom) return;
+    check_extent(*geom, s);
     ShapeEntry e;
     e.geometry = std::move(*geom);
     e.material = resolve_material(s.material);
