@@ -22,8 +22,7 @@ Transform Parser::read_matrix(Stream& s, std::string_view what, const SourceLoc&
     for (double& x : v) x = s.expect_number(what);
     t = s.require(what, "']'");
     if (t.kind != TokenKind::RBracket)
-        throw_error(s.loc(t), "{}: expected ']' after 16 matrix values, got {}", what,
-                    describe(t));
+        throw_error(s.loc(t), "{}: expected ']' after 16 matrix values, got {}", what, describe(t));
     // pbrt lists the matrix column by column (translation in values 13-15).
     Matrix4 m = Matrix4::from_rows(v).transposed();
     auto inv = m.inverse();
@@ -91,11 +90,16 @@ void Parser::attribute(Stream& s) {
     SourceLoc target_loc = s.loc(target_tok);
     std::vector<Param> params = parse_params(s);
     std::vector<Param>* dst = nullptr;
-    if (target == "shape") dst = &m_gs.shape_attrs;
-    else if (target == "light") dst = &m_gs.light_attrs;
-    else if (target == "material") dst = &m_gs.material_attrs;
-    else if (target == "medium") dst = &m_gs.medium_attrs;
-    else if (target == "texture") dst = &m_gs.texture_attrs;
+    if (target == "shape")
+        dst = &m_gs.shape_attrs;
+    else if (target == "light")
+        dst = &m_gs.light_attrs;
+    else if (target == "material")
+        dst = &m_gs.material_attrs;
+    else if (target == "medium")
+        dst = &m_gs.medium_attrs;
+    else if (target == "texture")
+        dst = &m_gs.texture_attrs;
     else
         throw_error(target_loc,
                     "unknown Attribute target \"{}\": must be \"shape\", \"light\", "

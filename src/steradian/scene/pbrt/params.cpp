@@ -17,14 +17,22 @@ namespace {
 /// pbrt-v4 parameter type names, plus the pbrt-v3 names pbrt-v4 only takes with --upgrade.
 std::optional<ParamType> param_type_from_name(std::string_view s) {
     static const std::unordered_map<std::string_view, ParamType> table = {
-        {"integer", ParamType::Integer}, {"float", ParamType::Float},
-        {"point2", ParamType::Point2},   {"vector2", ParamType::Vector2},
-        {"point3", ParamType::Point3},   {"point", ParamType::Point3},
-        {"vector3", ParamType::Vector3}, {"vector", ParamType::Vector3},
-        {"normal3", ParamType::Normal3}, {"normal", ParamType::Normal3},
-        {"bool", ParamType::Bool},       {"string", ParamType::String},
-        {"texture", ParamType::Texture}, {"spectrum", ParamType::Spectrum},
-        {"rgb", ParamType::Rgb},         {"color", ParamType::Rgb},
+        {"integer", ParamType::Integer},
+        {"float", ParamType::Float},
+        {"point2", ParamType::Point2},
+        {"vector2", ParamType::Vector2},
+        {"point3", ParamType::Point3},
+        {"point", ParamType::Point3},
+        {"vector3", ParamType::Vector3},
+        {"vector", ParamType::Vector3},
+        {"normal3", ParamType::Normal3},
+        {"normal", ParamType::Normal3},
+        {"bool", ParamType::Bool},
+        {"string", ParamType::String},
+        {"texture", ParamType::Texture},
+        {"spectrum", ParamType::Spectrum},
+        {"rgb", ParamType::Rgb},
+        {"color", ParamType::Rgb},
         {"blackbody", ParamType::Blackbody},
     };
     auto it = table.find(s);
@@ -105,12 +113,22 @@ Param Parser::parse_param(Stream& s, const Token& decl) {
 
     ValueKind kind = ValueKind::Number;
     switch (p.type) {
-        case ParamType::Integer: kind = ValueKind::Integer; break;
-        case ParamType::Bool: kind = ValueKind::Bool; break;
+        case ParamType::Integer:
+            kind = ValueKind::Integer;
+            break;
+        case ParamType::Bool:
+            kind = ValueKind::Bool;
+            break;
         case ParamType::String:
-        case ParamType::Texture: kind = ValueKind::String; break;
-        case ParamType::Spectrum: kind = ValueKind::Spectrum; break;
-        default: kind = ValueKind::Number; break;
+        case ParamType::Texture:
+            kind = ValueKind::String;
+            break;
+        case ParamType::Spectrum:
+            kind = ValueKind::Spectrum;
+            break;
+        default:
+            kind = ValueKind::Number;
+            break;
     }
     auto what = [&] { return fmt::format("parameter \"{} {}\"", type_name, name); };
 
@@ -125,8 +143,8 @@ Param Parser::parse_param(Stream& s, const Token& decl) {
             }
             case ValueKind::Integer: {
                 int x = 0;
-                IntParse r = v.kind == TokenKind::Number ? parse_int(v.text, x)
-                                                         : IntParse::NotInteger;
+                IntParse r =
+                    v.kind == TokenKind::Number ? parse_int(v.text, x) : IntParse::NotInteger;
                 if (r == IntParse::OutOfRange)
                     throw_error(s.loc(v), "{}: integer {} is out of the 32-bit range", what(),
                                 v.text);
@@ -202,8 +220,8 @@ Param Parser::parse_param(Stream& s, const Token& decl) {
             break;
         case ParamType::Blackbody:
             if (n != 1)
-                throw_error(p.loc,
-                            "{} needs exactly 1 value (temperature in K), got {}{}", what(), n,
+                throw_error(p.loc, "{} needs exactly 1 value (temperature in K), got {}{}", what(),
+                            n,
                             n == 2 ? " (pbrt-v3's scale value is gone in pbrt-v4: use the "
                                      "light's \"scale\" or \"power\")"
                                    : "");
@@ -215,10 +233,10 @@ Param Parser::parse_param(Stream& s, const Token& decl) {
             if (!p.strings.empty() && n != 1)
                 throw_error(p.loc, "{} needs exactly 1 spectrum name, got {}", what(), n);
             if (p.strings.empty() && (n == 0 || n % 2 != 0))
-                throw_error(p.loc, "{} needs (wavelength, value) pairs, got {} values", what(),
-                            n);
+                throw_error(p.loc, "{} needs (wavelength, value) pairs, got {} values", what(), n);
             break;
-        default: break;
+        default:
+            break;
     }
     return p;
 }
@@ -257,7 +275,8 @@ void Parser::option(Stream& s) {
         p.type = ParamType::Float;
         p.numbers.push_back(x);
     } else {
-        throw_error(s.loc(v), "Option \"{}\": expected true, false, a number or a quoted string, got {}",
+        throw_error(s.loc(v),
+                    "Option \"{}\": expected true, false, a number or a quoted string, got {}",
                     name_tok.text, describe(v));
     }
     for (Param& q : m_options)

@@ -51,12 +51,48 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Dir {
-    Accelerator, ActiveTransform, AreaLightSource, Attribute, AttributeBegin, AttributeEnd,
-    Camera, ColorSpace, ConcatTransform, CoordSysTransform, CoordinateSystem, Film, Identity,
-    Import, Include, Integrator, LightSource, LookAt, MakeNamedMaterial, MakeNamedMedium,
-    Material, MediumInterface, Meter, NamedMaterial, ObjectBegin, ObjectEnd, ObjectInstance, Option,
-    PixelFilter, ReverseOrientation, Rotate, Sampler, Scale, Shape, Texture, Transform,
-    TransformBegin, TransformEnd, TransformTimes, Translate, WorldBegin, WorldEnd
+    Accelerator,
+    ActiveTransform,
+    AreaLightSource,
+    Attribute,
+    AttributeBegin,
+    AttributeEnd,
+    Camera,
+    ColorSpace,
+    ConcatTransform,
+    CoordSysTransform,
+    CoordinateSystem,
+    Film,
+    Identity,
+    Import,
+    Include,
+    Integrator,
+    LightSource,
+    LookAt,
+    MakeNamedMaterial,
+    MakeNamedMedium,
+    Material,
+    MediumInterface,
+    Meter,
+    NamedMaterial,
+    ObjectBegin,
+    ObjectEnd,
+    ObjectInstance,
+    Option,
+    PixelFilter,
+    ReverseOrientation,
+    Rotate,
+    Sampler,
+    Scale,
+    Shape,
+    Texture,
+    Transform,
+    TransformBegin,
+    TransformEnd,
+    TransformTimes,
+    Translate,
+    WorldBegin,
+    WorldEnd
 };
 
 const std::unordered_map<std::string_view, Dir>& directive_table() {
@@ -122,10 +158,10 @@ void Parser::texture(Stream& s, const SourceLoc& loc) {
     Token vt = s.expect_string("Texture");
     std::string value_type(vt.text);
     if (value_type != "float" && value_type != "spectrum")
-        throw_error(s.loc(vt), "unknown texture type \"{}\": must be \"float\" or \"spectrum\"{}",
-                    value_type,
-                    value_type == "color" ? " (pbrt-v3's \"color\" is \"spectrum\" in pbrt-v4)"
-                                          : "");
+        throw_error(
+            s.loc(vt), "unknown texture type \"{}\": must be \"float\" or \"spectrum\"{}",
+            value_type,
+            value_type == "color" ? " (pbrt-v3's \"color\" is \"spectrum\" in pbrt-v4)" : "");
     std::string cls(s.expect_string("Texture").text);
     std::vector<Param> params = parse_params(s);
 
@@ -161,7 +197,8 @@ void Parser::make_named_material(Stream& s, const SourceLoc& loc) {
     if (!type)
         for (const Param& p : m_gs.material_attrs)
             if (p.name == "type") type = &p;
-    if (!type) throw_error(loc, "MakeNamedMaterial \"{}\": missing \"string type\" parameter", name);
+    if (!type)
+        throw_error(loc, "MakeNamedMaterial \"{}\": missing \"string type\" parameter", name);
     if (type->type != ParamType::String || type->strings.size() != 1)
         throw_error(type->loc,
                     "MakeNamedMaterial \"{}\": \"type\" must be a single string, e.g. \"string "
@@ -201,8 +238,8 @@ void Parser::shape(Stream& s, const SourceLoc& loc) {
     m_object->shapes.push_back(std::move(sh));
 }
 
-std::string Parser::resolve(const std::string& name, const std::string& dir,
-                            std::string_view what, const SourceLoc& loc) const {
+std::string Parser::resolve(const std::string& name, const std::string& dir, std::string_view what,
+                            const SourceLoc& loc) const {
     std::error_code ec;
     fs::path p(name);
     if (p.is_absolute()) {
@@ -226,8 +263,7 @@ void Parser::include(Stream& s, const std::string& dir, int depth, const SourceL
         throw_error(loc, "Import is only allowed after WorldBegin (in the world block)");
     std::string name(s.expect_string(what).text);
     if (depth >= 64)
-        throw_error(loc, "{} nesting is deeper than 64 files (does a file include itself?)",
-                    what);
+        throw_error(loc, "{} nesting is deeper than 64 files (does a file include itself?)", what);
     std::string path = resolve(name, dir, what, loc);
     std::unique_ptr<Tokenizer> tz = Tokenizer::from_file(path, &loc);
     if (!import) {
@@ -244,9 +280,9 @@ void Parser::include(Stream& s, const std::string& dir, int depth, const SourceL
         if (std::string_view(top.directive) == "ObjectBegin")
             throw_error(top.loc, "ObjectBegin \"{}\" without matching ObjectEnd in imported file",
                         m_object ? m_object->name : "");
-        throw_error(top.loc, "{} without matching {} in imported file", top.directive,
-                    std::string_view(top.directive) == "TransformBegin" ? "TransformEnd"
-                                                                        : "AttributeEnd");
+        throw_error(
+            top.loc, "{} without matching {} in imported file", top.directive,
+            std::string_view(top.directive) == "TransformBegin" ? "TransformEnd" : "AttributeEnd");
     }
     m_stack_floor = saved_floor;
     m_gs = std::move(saved);
@@ -268,7 +304,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
 
         switch (it->second) {
             // -- transformations (anywhere)
-            case Dir::Identity: set_ctm(Transform()); break;
+            case Dir::Identity:
+                set_ctm(Transform());
+                break;
             case Dir::Translate: {
                 double x = s.expect_number("Translate"), y = s.expect_number("Translate"),
                        z = s.expect_number("Translate");
@@ -279,7 +317,8 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 double x = s.expect_number("Scale"), y = s.expect_number("Scale"),
                        z = s.expect_number("Scale");
                 if (x == 0 || y == 0 || z == 0)
-                    throw_error(loc, "Scale: a zero scale factor makes the transformation singular");
+                    throw_error(loc,
+                                "Scale: a zero scale factor makes the transformation singular");
                 concat(Transform::scale({x, y, z}));
                 break;
             }
@@ -302,8 +341,12 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 }
                 break;
             }
-            case Dir::Transform: set_ctm(read_matrix(s, "Transform", loc)); break;
-            case Dir::ConcatTransform: concat(read_matrix(s, "ConcatTransform", loc)); break;
+            case Dir::Transform:
+                set_ctm(read_matrix(s, "Transform", loc));
+                break;
+            case Dir::ConcatTransform:
+                concat(read_matrix(s, "ConcatTransform", loc));
+                break;
             case Dir::CoordinateSystem:
                 m_coordsys[std::string(s.expect_string("CoordinateSystem").text)] = m_gs.ctm;
                 break;
@@ -318,7 +361,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                     m_gs.ctm = c->second;
                 break;
             }
-            case Dir::ActiveTransform: active_transform(s, loc); break;
+            case Dir::ActiveTransform:
+                active_transform(s, loc);
+                break;
             case Dir::TransformTimes:
                 require_options("TransformTimes", loc);
                 s.expect_number("TransformTimes");
@@ -360,7 +405,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_scene.color_spaces.push_back(EntityDesc{std::move(name), {}, loc});
                 break;
             }
-            case Dir::Option: option(s); break;
+            case Dir::Option:
+                option(s);
+                break;
             case Dir::WorldBegin:
                 if (m_in_world)
                     throw_error(loc, "WorldBegin: the world block already began at {}",
@@ -371,11 +418,16 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_gs.start_active = true;
                 m_coordsys["world"] = Transform();
                 break;
-            case Dir::WorldEnd: break;  // pbrt-v3; pbrt-v4 has no WorldEnd
+            case Dir::WorldEnd:
+                break;  // pbrt-v3; pbrt-v4 has no WorldEnd
 
             // -- attributes
-            case Dir::AttributeBegin: attribute_begin("AttributeBegin", loc); break;
-            case Dir::AttributeEnd: attribute_end("AttributeEnd", loc); break;
+            case Dir::AttributeBegin:
+                attribute_begin("AttributeBegin", loc);
+                break;
+            case Dir::AttributeEnd:
+                attribute_end("AttributeEnd", loc);
+                break;
             case Dir::TransformBegin:
                 attribute_begin("TransformBegin", loc);
                 if (!m_warned_transform_begin) {
@@ -385,15 +437,21 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                             "AttributeBegin/AttributeEnd they save and restore all attributes");
                 }
                 break;
-            case Dir::TransformEnd: attribute_end("TransformEnd", loc); break;
-            case Dir::Attribute: attribute(s); break;
+            case Dir::TransformEnd:
+                attribute_end("TransformEnd", loc);
+                break;
+            case Dir::Attribute:
+                attribute(s);
+                break;
             case Dir::ReverseOrientation:
                 require_world("ReverseOrientation", loc);
                 m_gs.reverse_orientation = !m_gs.reverse_orientation;
                 break;
 
             // -- world block
-            case Dir::Shape: shape(s, loc); break;
+            case Dir::Shape:
+                shape(s, loc);
+                break;
             case Dir::Material: {
                 require_world("Material", loc);
                 auto [type, params] = parse_entity(s, "Material");
@@ -405,7 +463,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_scene.materials.push_back(std::move(m));
                 break;
             }
-            case Dir::MakeNamedMaterial: make_named_material(s, loc); break;
+            case Dir::MakeNamedMaterial:
+                make_named_material(s, loc);
+                break;
             case Dir::NamedMaterial: {
                 require_world("NamedMaterial", loc);
                 std::string name(s.expect_string("NamedMaterial").text);
@@ -413,7 +473,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_gs.material = MaterialRef{-1, std::move(name), loc};
                 break;
             }
-            case Dir::Texture: texture(s, loc); break;
+            case Dir::Texture:
+                texture(s, loc);
+                break;
             case Dir::LightSource: {
                 require_world("LightSource", loc);
                 auto [type, params] = parse_entity(s, "LightSource");
@@ -454,8 +516,12 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_scene.area_lights.push_back(std::move(a));
                 break;
             }
-            case Dir::ObjectBegin: object_begin(s, loc); break;
-            case Dir::ObjectEnd: object_end(loc); break;
+            case Dir::ObjectBegin:
+                object_begin(s, loc);
+                break;
+            case Dir::ObjectEnd:
+                object_end(loc);
+                break;
             case Dir::ObjectInstance: {
                 require_world("ObjectInstance", loc);
                 std::string name(s.expect_string("ObjectInstance").text);
@@ -480,18 +546,25 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 std::string inside(s.expect_string("MediumInterface").text), outside = inside;
                 Token t;
                 if (s.next(t)) {
-                    if (t.kind == TokenKind::String) outside = std::string(t.text);
-                    else s.unget(t);
+                    if (t.kind == TokenKind::String)
+                        outside = std::string(t.text);
+                    else
+                        s.unget(t);
                 }
                 if (!inside.empty() || !outside.empty())
-                    warning(loc, "participating media are not supported; MediumInterface is "
-                                 "ignored");
+                    warning(loc,
+                            "participating media are not supported; MediumInterface is "
+                            "ignored");
                 break;
             }
 
             // -- files
-            case Dir::Include: include(s, dir, depth, loc, false); break;
-            case Dir::Import: include(s, dir, depth, loc, true); break;
+            case Dir::Include:
+                include(s, dir, depth, loc, false);
+                break;
+            case Dir::Import:
+                include(s, dir, depth, loc, true);
+                break;
         }
     }
 }
@@ -506,7 +579,8 @@ SceneDesc Parser::finish(const SourceLoc& eof) {
         throw_error(top.loc, "{} without matching {} (end of file)", d,
                     d == "TransformBegin" ? "TransformEnd" : "AttributeEnd");
     }
-    if (!m_in_world) throw_error(eof, "end of file before WorldBegin: the scene has no world block");
+    if (!m_in_world)
+        throw_error(eof, "end of file before WorldBegin: the scene has no world block");
     for (const InstanceUse& u : m_scene.instance_uses)
         if (m_scene.instances.find(u.name) == m_scene.instances.end())
             throw_error(u.loc, "ObjectInstance: object \"{}\" is not defined", u.name);

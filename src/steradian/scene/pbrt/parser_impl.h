@@ -24,7 +24,7 @@ ParamSet make_params(std::vector<Param>&& own, const std::vector<Param>* attrs,
                      std::string_view skip = {});
 
 class Parser {
-public:
+  public:
     explicit Parser(std::string base_dir) : m_base_dir(std::move(base_dir)) {
         m_scene.base_dir = m_base_dir;
     }
@@ -32,7 +32,7 @@ public:
     void parse(Tokenizer& tz, const std::string& dir, int depth);
     SceneDesc finish(const SourceLoc& eof);
 
-private:
+  private:
     enum class ValueKind { Number, Integer, Bool, String, Spectrum };
 
     std::vector<Param> parse_params(Stream& s);

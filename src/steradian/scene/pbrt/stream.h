@@ -10,8 +10,8 @@
 namespace sr::pbrt_detail {
 
 using pbrt::Token;
-using pbrt::TokenKind;
 using pbrt::Tokenizer;
+using pbrt::TokenKind;
 
 std::string describe(const Token& t);
 
@@ -23,7 +23,7 @@ IntParse parse_int(std::string_view s, int& v);
 
 /// Tokens of one file with one token of look-ahead.
 class Stream {
-public:
+  public:
     explicit Stream(Tokenizer& tz) : m_tz(tz) {}
     bool next(Token& t) {
         if (m_has_unget) {
@@ -43,7 +43,8 @@ public:
     /// The next token, or an "unexpected end of file" error mentioning `expected`.
     Token require(std::string_view what, std::string_view expected) {
         Token t;
-        if (!next(t)) throw_error(end_loc(), "{}: unexpected end of file, expected {}", what, expected);
+        if (!next(t))
+            throw_error(end_loc(), "{}: unexpected end of file, expected {}", what, expected);
         return t;
     }
     Token expect_string(std::string_view what) {
@@ -60,7 +61,7 @@ public:
         return v;
     }
 
-private:
+  private:
     Tokenizer& m_tz;
     Token m_unget;
     bool m_has_unget = false;
