@@ -13,7 +13,7 @@ spp=${3:-8}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-scenes=(scenes/*.pbrt tests/data/reference/*/scene.pbrt)
+scenes=(scenes/*.pbrt tests/data/reference/*/scene.pbrt tests/data/identical/*.pbrt)
 same=0
 differ=0
 for s in "${scenes[@]}"; do
