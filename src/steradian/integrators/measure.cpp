@@ -14,6 +14,7 @@
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
 #include "steradian/sampling/hash.h"
+#include "steradian/sampling/padded_sobol_sampler.h"
 #include "steradian/sampling/sampler.h"
 #include "steradian/sampling/warp.h"
 #include "steradian/scene/scene.h"

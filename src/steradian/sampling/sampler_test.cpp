@@ -9,9 +9,14 @@
 
 #include "steradian/core/error.h"
 #include "steradian/sampling/hash.h"
+#include "steradian/sampling/independent_sampler.h"
+#include "steradian/sampling/padded_sobol_sampler.h"
 #include "steradian/sampling/rng.h"
+#include "steradian/sampling/sobol.h"
 #include "steradian/sampling/stats.h"
+#include "steradian/sampling/stratified_sampler.h"
 #include "steradian/sampling/test_util.h"
+#include "steradian/sampling/zsobol_sampler.h"
 
 namespace sr {
 namespace {

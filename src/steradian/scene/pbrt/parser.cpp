@@ -1,15 +1,16 @@
+/// The pbrt reader's directives (dispatch, scene entities, Include/Import) and its entry points.
 #include "steradian/scene/pbrt/parser.h"
 
-#include <array>
-#include <cctype>
-#include <charconv>
-#include <cmath>
 #include <filesystem>
-#include <limits>
-#include <optional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <system_error>
 #include <unordered_map>
 #include <utility>
 
+#include "steradian/scene/pbrt/parser_impl.h"
+#include "steradian/scene/pbrt/stream.h"
 #include "steradian/scene/pbrt/tokenizer.h"
 
 // Semantics follow pbrt-v4's parser.cpp (syntax) and BasicSceneBuilder in scene.cpp
@@ -44,21 +45,54 @@
 // - Duplicate parameters in one list are an error (pbrt-v4 silently uses the last one).
 // - Errors are thrown at the first problem; pbrt-v4 defers some of them to the end.
 
-namespace sr {
+namespace sr::pbrt_detail {
 namespace {
 
 namespace fs = std::filesystem;
-using pbrt::Token;
-using pbrt::TokenKind;
-using pbrt::Tokenizer;
 
 enum class Dir {
-    Accelerator, ActiveTransform, AreaLightSource, Attribute, AttributeBegin, AttributeEnd,
-    Camera, ColorSpace, ConcatTransform, CoordSysTransform, CoordinateSystem, Film, Identity,
-    Import, Include, Integrator, LightSource, LookAt, MakeNamedMaterial, MakeNamedMedium,
-    Material, MediumInterface, Meter, NamedMaterial, ObjectBegin, ObjectEnd, ObjectInstance, Option,
-    PixelFilter, ReverseOrientation, Rotate, Sampler, Scale, Shape, Texture, Transform,
-    TransformBegin, TransformEnd, TransformTimes, Translate, WorldBegin, WorldEnd
+    Accelerator,
+    ActiveTransform,
+    AreaLightSource,
+    Attribute,
+    AttributeBegin,
+    AttributeEnd,
+    Camera,
+    ColorSpace,
+    ConcatTransform,
+    CoordSysTransform,
+    CoordinateSystem,
+    Film,
+    Identity,
+    Import,
+    Include,
+    Integrator,
+    LightSource,
+    LookAt,
+    MakeNamedMaterial,
+    MakeNamedMedium,
+    Material,
+    MediumInterface,
+    Meter,
+    NamedMaterial,
+    ObjectBegin,
+    ObjectEnd,
+    ObjectInstance,
+    Option,
+    PixelFilter,
+    ReverseOrientation,
+    Rotate,
+    Sampler,
+    Scale,
+    Shape,
+    Texture,
+    Transform,
+    TransformBegin,
+    TransformEnd,
+    TransformTimes,
+    Translate,
+    WorldBegin,
+    WorldEnd
 };
 
 const std::unordered_map<std::string_view, Dir>& directive_table() {
@@ -109,484 +143,14 @@ const std::unordered_map<std::string_view, Dir>& directive_table() {
     return table;
 }
 
-/// pbrt-v4 parameter type names, plus the pbrt-v3 names pbrt-v4 only takes with --upgrade.
-std::optional<ParamType> param_type_from_name(std::string_view s) {
-    static const std::unordered_map<std::string_view, ParamType> table = {
-        {"integer", ParamType::Integer}, {"float", ParamType::Float},
-        {"point2", ParamType::Point2},   {"vector2", ParamType::Vector2},
-        {"point3", ParamType::Point3},   {"point", ParamType::Point3},
-        {"vector3", ParamType::Vector3}, {"vector", ParamType::Vector3},
-        {"normal3", ParamType::Normal3}, {"normal", ParamType::Normal3},
-        {"bool", ParamType::Bool},       {"string", ParamType::String},
-        {"texture", ParamType::Texture}, {"spectrum", ParamType::Spectrum},
-        {"rgb", ParamType::Rgb},         {"color", ParamType::Rgb},
-        {"blackbody", ParamType::Blackbody},
-    };
-    auto it = table.find(s);
-    if (it == table.end()) return std::nullopt;
-    return it->second;
-}
-
-std::string describe(const Token& t) {
-    if (t.kind == TokenKind::String) return fmt::format("string \"{}\"", t.text);
-    return fmt::format("'{}'", t.text);
-}
-
-bool parse_double(std::string_view s, double& v) {
-    const char* b = s.data();
-    const char* e = b + s.size();
-    if (b != e && *b == '+') {
-        ++b;
-        if (b != e && (*b == '+' || *b == '-')) return false;
-    }
-    auto r = std::from_chars(b, e, v);
-    return r.ec == std::errc() && r.ptr == e && std::isfinite(v);
-}
-
-enum class IntParse { Ok, NotInteger, OutOfRange };
-
-IntParse parse_int(std::string_view s, int& v) {
-    const char* b = s.data();
-    const char* e = b + s.size();
-    if (b != e && *b == '+') {
-        ++b;
-        if (b != e && (*b == '+' || *b == '-')) return IntParse::NotInteger;
-    }
-    long long x = 0;
-    auto r = std::from_chars(b, e, x);
-    if (b == e || r.ptr != e) return IntParse::NotInteger;
-    if (r.ec == std::errc::result_out_of_range || x < std::numeric_limits<int>::min() ||
-        x > std::numeric_limits<int>::max())
-        return IntParse::OutOfRange;
-    if (r.ec != std::errc()) return IntParse::NotInteger;
-    v = int(x);
-    return IntParse::Ok;
-}
-
-/// Tokens of one file with one token of look-ahead.
-class Stream {
-public:
-    explicit Stream(Tokenizer& tz) : m_tz(tz) {}
-    bool next(Token& t) {
-        if (m_has_unget) {
-            t = m_unget;
-            m_has_unget = false;
-            return true;
-        }
-        return m_tz.next(t);
-    }
-    void unget(const Token& t) {
-        m_unget = t;
-        m_has_unget = true;
-    }
-    SourceLoc loc(const Token& t) const { return m_tz.loc(t); }
-    SourceLoc end_loc() const { return m_tz.end_loc(); }
-
-    /// The next token, or an "unexpected end of file" error mentioning `expected`.
-    Token require(std::string_view what, std::string_view expected) {
-        Token t;
-        if (!next(t)) throw_error(end_loc(), "{}: unexpected end of file, expected {}", what, expected);
-        return t;
-    }
-    Token expect_string(std::string_view what) {
-        Token t = require(what, "a quoted string");
-        if (t.kind != TokenKind::String)
-            throw_error(loc(t), "{}: expected a quoted string, got {}", what, describe(t));
-        return t;
-    }
-    double expect_number(std::string_view what) {
-        Token t = require(what, "a number");
-        double v;
-        if (t.kind != TokenKind::Number || !parse_double(t.text, v))
-            throw_error(loc(t), "{}: expected a number, got {}", what, describe(t));
-        return v;
-    }
-
-private:
-    Tokenizer& m_tz;
-    Token m_unget;
-    bool m_has_unget = false;
-};
-
-struct GraphicsState {
-    Transform ctm;
-    bool start_active = true;  ///< ActiveTransform includes StartTime (we keep only that one)
-    bool reverse_orientation = false;
-    MaterialRef material;
-    int area_light = -1;
-    std::vector<Param> shape_attrs, light_attrs, material_attrs, medium_attrs, texture_attrs;
-};
-
-struct Pushed {
-    const char* directive;  ///< "AttributeBegin", "TransformBegin" or "ObjectBegin"
-    SourceLoc loc;
-    GraphicsState state;
-};
-
-/// Builds a ParamSet from an entity's own parameters (already free of duplicates) and the
-/// Attribute defaults that apply to it; `skip` names a parameter to leave out.
-ParamSet make_params(std::vector<Param>&& own, const std::vector<Param>* attrs,
-                     std::string_view skip = {}) {
-    ParamSet ps;
-    for (Param& p : own)
-        if (skip.empty() || p.name != skip) ps.add(std::move(p));
-    if (attrs)
-        for (const Param& a : *attrs) {
-            if (!skip.empty() && a.name == skip) continue;
-            bool present = false;
-            for (const Param& q : ps.params())
-                if (q.name == a.name) {
-                    present = true;
-                    break;
-                }
-            if (present) continue;
-            Param c = a;
-            c.used = true;  // pbrt-v4 marks attribute parameters "may be unused"
-            ps.add(std::move(c));
-        }
-    return ps;
-}
-
 std::string parent_dir(const std::string& path) {
     std::string d = fs::path(path).parent_path().string();
     return d.empty() ? "." : d;
 }
 
-class Parser {
-public:
-    explicit Parser(std::string base_dir) : m_base_dir(std::move(base_dir)) {
-        m_scene.base_dir = m_base_dir;
-    }
-
-    void parse(Tokenizer& tz, const std::string& dir, int depth);
-    SceneDesc finish(const SourceLoc& eof);
-
-private:
-    enum class ValueKind { Number, Integer, Bool, String, Spectrum };
-
-    std::vector<Param> parse_params(Stream& s);
-    Param parse_param(Stream& s, const Token& decl);
-    std::pair<std::string, std::vector<Param>> parse_entity(Stream& s, std::string_view what);
-
-    void require_world(std::string_view what, const SourceLoc& loc) const {
-        if (!m_in_world) throw_error(loc, "{} is not allowed before WorldBegin", what);
-    }
-    void require_options(std::string_view what, const SourceLoc& loc) const {
-        if (m_in_world)
-            throw_error(loc, "{} is not allowed after WorldBegin (it belongs to the options block)",
-                        what);
-    }
-    /// Applies `t` to the CTM: ctm = ctm * t (only the start-time transform is kept).
-    void concat(const Transform& t) {
-        if (m_gs.start_active) m_gs.ctm = m_gs.ctm * t;
-    }
-    void set_ctm(const Transform& t) {
-        if (m_gs.start_active) m_gs.ctm = t;
-    }
-    Transform read_matrix(Stream& s, std::string_view what, const SourceLoc& loc);
-
-    void attribute_begin(const char* what, const SourceLoc& loc);
-    void attribute_end(std::string_view what, const SourceLoc& loc);
-    void object_begin(Stream& s, const SourceLoc& loc);
-    void object_end(const SourceLoc& loc);
-    void attribute(Stream& s);
-    void texture(Stream& s, const SourceLoc& loc);
-    void make_named_material(Stream& s, const SourceLoc& loc);
-    void shape(Stream& s, const SourceLoc& loc);
-    void option(Stream& s);
-    void active_transform(Stream& s, const SourceLoc& loc);
-    std::string resolve(const std::string& name, const std::string& dir, std::string_view what,
-                        const SourceLoc& loc) const;
-    void include(Stream& s, const std::string& dir, int depth, const SourceLoc& loc, bool import);
-
-    SceneDesc m_scene;
-    GraphicsState m_gs;
-    std::vector<Pushed> m_stack;
-    size_t m_stack_floor = 0;  ///< entries below this belong to the file that Imports
-    std::unordered_map<std::string, Transform> m_coordsys;
-    bool m_in_world = false;
-    SourceLoc m_world_loc;
-    InstanceDefinition* m_object = nullptr;  ///< the open ObjectBegin, if any
-    std::unordered_map<std::string, SourceLoc> m_float_textures, m_spectrum_textures;
-    std::vector<Param> m_options;
-    bool m_warned_transform_begin = false;
-    std::string m_base_dir;
-};
-
-// ---- parameter lists --------------------------------------------------------------------
-
-std::vector<Param> Parser::parse_params(Stream& s) {
-    std::vector<Param> out;
-    Token t;
-    while (s.next(t)) {
-        if (t.kind != TokenKind::String) {
-            s.unget(t);
-            break;
-        }
-        Param p = parse_param(s, t);
-        for (const Param& q : out)
-            if (q.name == p.name)
-                throw_error(p.loc, "duplicate parameter \"{}\" (first given at {})", p.name,
-                            q.loc.to_string());
-        out.push_back(std::move(p));
-    }
-    return out;
-}
-
-Param Parser::parse_param(Stream& s, const Token& decl) {
-    Param p;
-    p.loc = s.loc(decl);
-
-    // "type name", separated by spaces or tabs.
-    std::string_view d = decl.text;
-    auto is_space = [](char c) { return c == ' ' || c == '\t'; };
-    size_t i = 0;
-    while (i < d.size() && is_space(d[i])) ++i;
-    size_t type_begin = i;
-    while (i < d.size() && !is_space(d[i])) ++i;
-    std::string_view type_name = d.substr(type_begin, i - type_begin);
-    while (i < d.size() && is_space(d[i])) ++i;
-    size_t name_begin = i;
-    while (i < d.size() && !is_space(d[i])) ++i;
-    std::string_view name = d.substr(name_begin, i - name_begin);
-    while (i < d.size() && is_space(d[i])) ++i;
-    if (type_name.empty() || name.empty() || i != d.size())
-        throw_error(p.loc,
-                    "malformed parameter declaration \"{}\": expected \"type name\" (or a "
-                    "directive name without quotes)",
-                    d);
-    auto type = param_type_from_name(type_name);
-    if (!type) throw_error(p.loc, "unknown parameter type \"{}\" in \"{}\"", type_name, d);
-    p.type = *type;
-    p.name = std::string(name);
-
-    ValueKind kind = ValueKind::Number;
-    switch (p.type) {
-        case ParamType::Integer: kind = ValueKind::Integer; break;
-        case ParamType::Bool: kind = ValueKind::Bool; break;
-        case ParamType::String:
-        case ParamType::Texture: kind = ValueKind::String; break;
-        case ParamType::Spectrum: kind = ValueKind::Spectrum; break;
-        default: kind = ValueKind::Number; break;
-    }
-    auto what = [&] { return fmt::format("parameter \"{} {}\"", type_name, name); };
-
-    auto add_value = [&](const Token& v) {
-        switch (kind) {
-            case ValueKind::Number: {
-                double x;
-                if (v.kind != TokenKind::Number || !parse_double(v.text, x))
-                    throw_error(s.loc(v), "{}: expected a number, got {}", what(), describe(v));
-                p.numbers.push_back(x);
-                return;
-            }
-            case ValueKind::Integer: {
-                int x = 0;
-                IntParse r = v.kind == TokenKind::Number ? parse_int(v.text, x)
-                                                         : IntParse::NotInteger;
-                if (r == IntParse::OutOfRange)
-                    throw_error(s.loc(v), "{}: integer {} is out of the 32-bit range", what(),
-                                v.text);
-                if (r != IntParse::Ok)
-                    throw_error(s.loc(v), "{}: expected an integer, got {}", what(), describe(v));
-                p.numbers.push_back(double(x));
-                return;
-            }
-            case ValueKind::Bool:
-                if ((v.kind == TokenKind::Identifier || v.kind == TokenKind::String) &&
-                    (v.text == "true" || v.text == "false")) {
-                    p.bools.push_back(v.text == "true" ? 1 : 0);
-                    return;
-                }
-                throw_error(s.loc(v), "{}: expected true or false, got {}", what(), describe(v));
-            case ValueKind::String:
-                if (v.kind != TokenKind::String)
-                    throw_error(s.loc(v), "{}: expected a quoted string, got {}", what(),
-                                describe(v));
-                p.strings.emplace_back(v.text);
-                return;
-            case ValueKind::Spectrum: {
-                double x;
-                if (v.kind == TokenKind::String && p.numbers.empty()) {
-                    p.strings.emplace_back(v.text);
-                    return;
-                }
-                if (v.kind == TokenKind::Number && p.strings.empty() && parse_double(v.text, x)) {
-                    p.numbers.push_back(x);
-                    return;
-                }
-                throw_error(s.loc(v),
-                            "{}: expected (wavelength, value) numbers or one spectrum name, got {}",
-                            what(), describe(v));
-            }
-        }
-    };
-
-    Token v;
-    if (!s.next(v)) throw_error(p.loc, "{} has no value (end of file)", what());
-    if (v.kind == TokenKind::LBracket) {
-        Token open = v;
-        for (;;) {
-            if (!s.next(v))
-                throw_error(s.loc(open), "unterminated value list of {}: missing ']'", what());
-            if (v.kind == TokenKind::RBracket) break;
-            if (v.kind == TokenKind::LBracket)
-                throw_error(s.loc(v), "{}: unexpected '[' inside a value list", what());
-            add_value(v);
-        }
-    } else if (v.kind == TokenKind::RBracket) {
-        throw_error(s.loc(v), "{}: unexpected ']' (missing '['?)", what());
-    } else {
-        add_value(v);
-    }
-
-    // Counts that do not depend on how the builder will use the parameter.
-    size_t n = p.numbers.size() + p.strings.size() + p.bools.size();
-    switch (p.type) {
-        case ParamType::Point2:
-        case ParamType::Vector2:
-            if (n % 2 != 0)
-                throw_error(p.loc, "{} needs a multiple of 2 values, got {}", what(), n);
-            break;
-        case ParamType::Point3:
-        case ParamType::Vector3:
-        case ParamType::Normal3:
-            if (n % 3 != 0)
-                throw_error(p.loc, "{} needs a multiple of 3 values, got {}", what(), n);
-            break;
-        case ParamType::Rgb:
-            if (n != 3) throw_error(p.loc, "{} needs exactly 3 values, got {}", what(), n);
-            break;
-        case ParamType::Blackbody:
-            if (n != 1)
-                throw_error(p.loc,
-                            "{} needs exactly 1 value (temperature in K), got {}{}", what(), n,
-                            n == 2 ? " (pbrt-v3's scale value is gone in pbrt-v4: use the "
-                                     "light's \"scale\" or \"power\")"
-                                   : "");
-            break;
-        case ParamType::Texture:
-            if (n != 1) throw_error(p.loc, "{} needs exactly 1 texture name, got {}", what(), n);
-            break;
-        case ParamType::Spectrum:
-            if (!p.strings.empty() && n != 1)
-                throw_error(p.loc, "{} needs exactly 1 spectrum name, got {}", what(), n);
-            if (p.strings.empty() && (n == 0 || n % 2 != 0))
-                throw_error(p.loc, "{} needs (wavelength, value) pairs, got {} values", what(),
-                            n);
-            break;
-        default: break;
-    }
-    return p;
-}
-
-std::pair<std::string, std::vector<Param>> Parser::parse_entity(Stream& s, std::string_view what) {
-    Token t = s.expect_string(what);
-    std::string type(t.text);
-    return {std::move(type), parse_params(s)};
-}
+}  // namespace
 
 // ---- directives -------------------------------------------------------------------------
-
-Transform Parser::read_matrix(Stream& s, std::string_view what, const SourceLoc& loc) {
-    Token t = s.require(what, "'['");
-    if (t.kind != TokenKind::LBracket)
-        throw_error(s.loc(t), "{}: expected '[' before the 16 matrix values, got {}", what,
-                    describe(t));
-    std::array<double, 16> v;
-    for (double& x : v) x = s.expect_number(what);
-    t = s.require(what, "']'");
-    if (t.kind != TokenKind::RBracket)
-        throw_error(s.loc(t), "{}: expected ']' after 16 matrix values, got {}", what,
-                    describe(t));
-    // pbrt lists the matrix column by column (translation in values 13-15).
-    Matrix4 m = Matrix4::from_rows(v).transposed();
-    auto inv = m.inverse();
-    if (!inv) throw_error(loc, "{}: singular transformation matrix", what);
-    return Transform(m, *inv);
-}
-
-void Parser::attribute_begin(const char* what, const SourceLoc& loc) {
-    require_world(what, loc);
-    m_stack.push_back({what, loc, m_gs});
-}
-
-void Parser::attribute_end(std::string_view what, const SourceLoc& loc) {
-    require_world(what, loc);
-    std::string_view begin = what == "TransformEnd" ? "TransformBegin" : "AttributeBegin";
-    if (m_stack.size() <= m_stack_floor)
-        throw_error(loc, "{} without matching {}{}", what, begin,
-                    m_stack_floor > 0 ? " in this imported file" : "");
-    Pushed& top = m_stack.back();
-    if (m_object && std::string_view(top.directive) == "ObjectBegin")
-        throw_error(loc, "{} closes ObjectBegin \"{}\" (at {}): expected ObjectEnd", what,
-                    m_object->name, top.loc.to_string());
-    m_gs = std::move(top.state);
-    m_stack.pop_back();
-}
-
-void Parser::object_begin(Stream& s, const SourceLoc& loc) {
-    require_world("ObjectBegin", loc);
-    std::string name(s.expect_string("ObjectBegin").text);
-    if (m_object)
-        throw_error(loc,
-                    "ObjectBegin \"{}\" inside the definition of object \"{}\" (started at "
-                    "{}): object definitions cannot be nested",
-                    name, m_object->name, m_object->loc.to_string());
-    if (auto it = m_scene.instances.find(name); it != m_scene.instances.end())
-        throw_error(loc, "object \"{}\" redefined (first defined at {})", name,
-                    it->second.loc.to_string());
-    m_stack.push_back({"ObjectBegin", loc, m_gs});
-    InstanceDefinition& def = m_scene.instances[name];
-    def.name = name;
-    def.loc = loc;
-    m_object = &def;
-}
-
-void Parser::object_end(const SourceLoc& loc) {
-    require_world("ObjectEnd", loc);
-    if (!m_object) throw_error(loc, "ObjectEnd without matching ObjectBegin");
-    if (m_stack.size() <= m_stack_floor)
-        throw_error(loc,
-                    "ObjectEnd in an imported file for ObjectBegin \"{}\" (at {}) of the "
-                    "importing file",
-                    m_object->name, m_object->loc.to_string());
-    Pushed& top = m_stack.back();
-    if (std::string_view(top.directive) != "ObjectBegin")
-        throw_error(loc, "ObjectEnd while {} at {} is still open", top.directive,
-                    top.loc.to_string());
-    m_gs = std::move(top.state);
-    m_stack.pop_back();
-    m_object = nullptr;
-}
-
-void Parser::attribute(Stream& s) {
-    Token target_tok = s.expect_string("Attribute");
-    std::string target(target_tok.text);
-    SourceLoc target_loc = s.loc(target_tok);
-    std::vector<Param> params = parse_params(s);
-    std::vector<Param>* dst = nullptr;
-    if (target == "shape") dst = &m_gs.shape_attrs;
-    else if (target == "light") dst = &m_gs.light_attrs;
-    else if (target == "material") dst = &m_gs.material_attrs;
-    else if (target == "medium") dst = &m_gs.medium_attrs;
-    else if (target == "texture") dst = &m_gs.texture_attrs;
-    else
-        throw_error(target_loc,
-                    "unknown Attribute target \"{}\": must be \"shape\", \"light\", "
-                    "\"material\", \"medium\" or \"texture\"",
-                    target);
-    for (Param& p : params) {
-        bool replaced = false;
-        for (Param& q : *dst)
-            if (q.name == p.name) {
-                q = std::move(p);
-                replaced = true;
-                break;
-            }
-        if (!replaced) dst->push_back(std::move(p));
-    }
-}
 
 void Parser::texture(Stream& s, const SourceLoc& loc) {
     require_world("Texture", loc);
@@ -594,10 +158,10 @@ void Parser::texture(Stream& s, const SourceLoc& loc) {
     Token vt = s.expect_string("Texture");
     std::string value_type(vt.text);
     if (value_type != "float" && value_type != "spectrum")
-        throw_error(s.loc(vt), "unknown texture type \"{}\": must be \"float\" or \"spectrum\"{}",
-                    value_type,
-                    value_type == "color" ? " (pbrt-v3's \"color\" is \"spectrum\" in pbrt-v4)"
-                                          : "");
+        throw_error(
+            s.loc(vt), "unknown texture type \"{}\": must be \"float\" or \"spectrum\"{}",
+            value_type,
+            value_type == "color" ? " (pbrt-v3's \"color\" is \"spectrum\" in pbrt-v4)" : "");
     std::string cls(s.expect_string("Texture").text);
     std::vector<Param> params = parse_params(s);
 
@@ -633,7 +197,8 @@ void Parser::make_named_material(Stream& s, const SourceLoc& loc) {
     if (!type)
         for (const Param& p : m_gs.material_attrs)
             if (p.name == "type") type = &p;
-    if (!type) throw_error(loc, "MakeNamedMaterial \"{}\": missing \"string type\" parameter", name);
+    if (!type)
+        throw_error(loc, "MakeNamedMaterial \"{}\": missing \"string type\" parameter", name);
     if (type->type != ParamType::String || type->strings.size() != 1)
         throw_error(type->loc,
                     "MakeNamedMaterial \"{}\": \"type\" must be a single string, e.g. \"string "
@@ -673,63 +238,8 @@ void Parser::shape(Stream& s, const SourceLoc& loc) {
     m_object->shapes.push_back(std::move(sh));
 }
 
-void Parser::option(Stream& s) {
-    Token name_tok = s.expect_string("Option");
-    SourceLoc loc = s.loc(name_tok);
-    // pbrt-v4 normalises option names: lower case, '-' and '_' removed.
-    std::string name;
-    for (char c : name_tok.text)
-        if (c != '-' && c != '_') name.push_back(char(std::tolower(static_cast<unsigned char>(c))));
-    Token v = s.require("Option", "a value");
-    Param p;
-    p.name = name;
-    p.loc = loc;
-    double x;
-    if (v.kind == TokenKind::String) {
-        p.type = ParamType::String;
-        p.strings.emplace_back(v.text);
-    } else if (v.kind == TokenKind::Identifier && (v.text == "true" || v.text == "false")) {
-        p.type = ParamType::Bool;
-        p.bools.push_back(v.text == "true" ? 1 : 0);
-    } else if (v.kind == TokenKind::Number && name == "seed") {
-        int i = 0;
-        if (parse_int(v.text, i) != IntParse::Ok)
-            throw_error(s.loc(v), "Option \"seed\": expected an integer, got {}", describe(v));
-        p.type = ParamType::Integer;
-        p.numbers.push_back(i);
-    } else if (v.kind == TokenKind::Number && parse_double(v.text, x)) {
-        p.type = ParamType::Float;
-        p.numbers.push_back(x);
-    } else {
-        throw_error(s.loc(v), "Option \"{}\": expected true, false, a number or a quoted string, got {}",
-                    name_tok.text, describe(v));
-    }
-    for (Param& q : m_options)
-        if (q.name == p.name) {
-            q = std::move(p);
-            return;
-        }
-    m_options.push_back(std::move(p));
-}
-
-void Parser::active_transform(Stream& s, const SourceLoc& loc) {
-    Token t = s.require("ActiveTransform", "All, StartTime or EndTime");
-    if (t.kind == TokenKind::Identifier && t.text == "All") {
-        m_gs.start_active = true;
-        return;
-    }
-    bool start = t.text == "StartTime", end = t.text == "EndTime";
-    if (t.kind != TokenKind::Identifier || !(start || end))
-        throw_error(s.loc(t), "ActiveTransform: expected All, StartTime or EndTime, got {}",
-                    describe(t));
-    m_gs.start_active = start;
-    warning(loc, fmt::format("ActiveTransform {}: motion blur is not supported; only the "
-                             "start-time transformation is used{}",
-                             t.text, end ? " (transformations for EndTime are ignored)" : ""));
-}
-
-std::string Parser::resolve(const std::string& name, const std::string& dir,
-                            std::string_view what, const SourceLoc& loc) const {
+std::string Parser::resolve(const std::string& name, const std::string& dir, std::string_view what,
+                            const SourceLoc& loc) const {
     std::error_code ec;
     fs::path p(name);
     if (p.is_absolute()) {
@@ -753,8 +263,7 @@ void Parser::include(Stream& s, const std::string& dir, int depth, const SourceL
         throw_error(loc, "Import is only allowed after WorldBegin (in the world block)");
     std::string name(s.expect_string(what).text);
     if (depth >= 64)
-        throw_error(loc, "{} nesting is deeper than 64 files (does a file include itself?)",
-                    what);
+        throw_error(loc, "{} nesting is deeper than 64 files (does a file include itself?)", what);
     std::string path = resolve(name, dir, what, loc);
     std::unique_ptr<Tokenizer> tz = Tokenizer::from_file(path, &loc);
     if (!import) {
@@ -771,9 +280,9 @@ void Parser::include(Stream& s, const std::string& dir, int depth, const SourceL
         if (std::string_view(top.directive) == "ObjectBegin")
             throw_error(top.loc, "ObjectBegin \"{}\" without matching ObjectEnd in imported file",
                         m_object ? m_object->name : "");
-        throw_error(top.loc, "{} without matching {} in imported file", top.directive,
-                    std::string_view(top.directive) == "TransformBegin" ? "TransformEnd"
-                                                                        : "AttributeEnd");
+        throw_error(
+            top.loc, "{} without matching {} in imported file", top.directive,
+            std::string_view(top.directive) == "TransformBegin" ? "TransformEnd" : "AttributeEnd");
     }
     m_stack_floor = saved_floor;
     m_gs = std::move(saved);
@@ -795,7 +304,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
 
         switch (it->second) {
             // -- transformations (anywhere)
-            case Dir::Identity: set_ctm(Transform()); break;
+            case Dir::Identity:
+                set_ctm(Transform());
+                break;
             case Dir::Translate: {
                 double x = s.expect_number("Translate"), y = s.expect_number("Translate"),
                        z = s.expect_number("Translate");
@@ -806,7 +317,8 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 double x = s.expect_number("Scale"), y = s.expect_number("Scale"),
                        z = s.expect_number("Scale");
                 if (x == 0 || y == 0 || z == 0)
-                    throw_error(loc, "Scale: a zero scale factor makes the transformation singular");
+                    throw_error(loc,
+                                "Scale: a zero scale factor makes the transformation singular");
                 concat(Transform::scale({x, y, z}));
                 break;
             }
@@ -829,8 +341,12 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 }
                 break;
             }
-            case Dir::Transform: set_ctm(read_matrix(s, "Transform", loc)); break;
-            case Dir::ConcatTransform: concat(read_matrix(s, "ConcatTransform", loc)); break;
+            case Dir::Transform:
+                set_ctm(read_matrix(s, "Transform", loc));
+                break;
+            case Dir::ConcatTransform:
+                concat(read_matrix(s, "ConcatTransform", loc));
+                break;
             case Dir::CoordinateSystem:
                 m_coordsys[std::string(s.expect_string("CoordinateSystem").text)] = m_gs.ctm;
                 break;
@@ -845,7 +361,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                     m_gs.ctm = c->second;
                 break;
             }
-            case Dir::ActiveTransform: active_transform(s, loc); break;
+            case Dir::ActiveTransform:
+                active_transform(s, loc);
+                break;
             case Dir::TransformTimes:
                 require_options("TransformTimes", loc);
                 s.expect_number("TransformTimes");
@@ -887,7 +405,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_scene.color_spaces.push_back(EntityDesc{std::move(name), {}, loc});
                 break;
             }
-            case Dir::Option: option(s); break;
+            case Dir::Option:
+                option(s);
+                break;
             case Dir::WorldBegin:
                 if (m_in_world)
                     throw_error(loc, "WorldBegin: the world block already began at {}",
@@ -898,11 +418,16 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_gs.start_active = true;
                 m_coordsys["world"] = Transform();
                 break;
-            case Dir::WorldEnd: break;  // pbrt-v3; pbrt-v4 has no WorldEnd
+            case Dir::WorldEnd:
+                break;  // pbrt-v3; pbrt-v4 has no WorldEnd
 
             // -- attributes
-            case Dir::AttributeBegin: attribute_begin("AttributeBegin", loc); break;
-            case Dir::AttributeEnd: attribute_end("AttributeEnd", loc); break;
+            case Dir::AttributeBegin:
+                attribute_begin("AttributeBegin", loc);
+                break;
+            case Dir::AttributeEnd:
+                attribute_end("AttributeEnd", loc);
+                break;
             case Dir::TransformBegin:
                 attribute_begin("TransformBegin", loc);
                 if (!m_warned_transform_begin) {
@@ -912,15 +437,21 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                             "AttributeBegin/AttributeEnd they save and restore all attributes");
                 }
                 break;
-            case Dir::TransformEnd: attribute_end("TransformEnd", loc); break;
-            case Dir::Attribute: attribute(s); break;
+            case Dir::TransformEnd:
+                attribute_end("TransformEnd", loc);
+                break;
+            case Dir::Attribute:
+                attribute(s);
+                break;
             case Dir::ReverseOrientation:
                 require_world("ReverseOrientation", loc);
                 m_gs.reverse_orientation = !m_gs.reverse_orientation;
                 break;
 
             // -- world block
-            case Dir::Shape: shape(s, loc); break;
+            case Dir::Shape:
+                shape(s, loc);
+                break;
             case Dir::Material: {
                 require_world("Material", loc);
                 auto [type, params] = parse_entity(s, "Material");
@@ -932,7 +463,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_scene.materials.push_back(std::move(m));
                 break;
             }
-            case Dir::MakeNamedMaterial: make_named_material(s, loc); break;
+            case Dir::MakeNamedMaterial:
+                make_named_material(s, loc);
+                break;
             case Dir::NamedMaterial: {
                 require_world("NamedMaterial", loc);
                 std::string name(s.expect_string("NamedMaterial").text);
@@ -940,7 +473,9 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_gs.material = MaterialRef{-1, std::move(name), loc};
                 break;
             }
-            case Dir::Texture: texture(s, loc); break;
+            case Dir::Texture:
+                texture(s, loc);
+                break;
             case Dir::LightSource: {
                 require_world("LightSource", loc);
                 auto [type, params] = parse_entity(s, "LightSource");
@@ -981,8 +516,12 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m_scene.area_lights.push_back(std::move(a));
                 break;
             }
-            case Dir::ObjectBegin: object_begin(s, loc); break;
-            case Dir::ObjectEnd: object_end(loc); break;
+            case Dir::ObjectBegin:
+                object_begin(s, loc);
+                break;
+            case Dir::ObjectEnd:
+                object_end(loc);
+                break;
             case Dir::ObjectInstance: {
                 require_world("ObjectInstance", loc);
                 std::string name(s.expect_string("ObjectInstance").text);
@@ -1007,18 +546,25 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 std::string inside(s.expect_string("MediumInterface").text), outside = inside;
                 Token t;
                 if (s.next(t)) {
-                    if (t.kind == TokenKind::String) outside = std::string(t.text);
-                    else s.unget(t);
+                    if (t.kind == TokenKind::String)
+                        outside = std::string(t.text);
+                    else
+                        s.unget(t);
                 }
                 if (!inside.empty() || !outside.empty())
-                    warning(loc, "participating media are not supported; MediumInterface is "
-                                 "ignored");
+                    warning(loc,
+                            "participating media are not supported; MediumInterface is "
+                            "ignored");
                 break;
             }
 
             // -- files
-            case Dir::Include: include(s, dir, depth, loc, false); break;
-            case Dir::Import: include(s, dir, depth, loc, true); break;
+            case Dir::Include:
+                include(s, dir, depth, loc, false);
+                break;
+            case Dir::Import:
+                include(s, dir, depth, loc, true);
+                break;
         }
     }
 }
@@ -1033,7 +579,8 @@ SceneDesc Parser::finish(const SourceLoc& eof) {
         throw_error(top.loc, "{} without matching {} (end of file)", d,
                     d == "TransformBegin" ? "TransformEnd" : "AttributeEnd");
     }
-    if (!m_in_world) throw_error(eof, "end of file before WorldBegin: the scene has no world block");
+    if (!m_in_world)
+        throw_error(eof, "end of file before WorldBegin: the scene has no world block");
     for (const InstanceUse& u : m_scene.instance_uses)
         if (m_scene.instances.find(u.name) == m_scene.instances.end())
             throw_error(u.loc, "ObjectInstance: object \"{}\" is not defined", u.name);
@@ -1041,7 +588,11 @@ SceneDesc Parser::finish(const SourceLoc& eof) {
     return std::move(m_scene);
 }
 
-}  // namespace
+}  // namespace sr::pbrt_detail
+
+namespace sr {
+
+using namespace pbrt_detail;
 
 SceneDesc parse_pbrt_file(const std::string& path) {
     std::unique_ptr<Tokenizer> tz = Tokenizer::from_file(path);
