@@ -374,10 +374,10 @@ int main(int argc, char** argv) {
                               luminance_out, falsecolor_out);
         if (*measure) return run_measure(mscene, margs, mthreads, mseed, mquiet);
     } catch (const sr::Error& e) {
-        std::fprintf(stderr, "error: %s\n", e.what());
+        std::fprintf(stderr, "error: %s\n", sr::terminal_safe(e.what()).c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "error: %s\n", e.what());
+        std::fprintf(stderr, "error: %s\n", sr::terminal_safe(e.what()).c_str());
         return 1;
     }
     return 0;

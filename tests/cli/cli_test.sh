@@ -269,6 +269,27 @@ printf 'Camera "perspective"\nWorldBegin\nInclude "%s"\n' "$tmp/huge-sparse.pbrt
 check "a file over the size limit is refused, naming the limit" grep -q "more than the limit" "$tmp/inc.txt"
 rm -f "$tmp/huge-sparse.pbrt"
 
+# Out-of-float-range numbers are errors (1e39 became inf), and a binary file's bytes are
+# escaped in messages, never echoed raw to the terminal.
+printf 'Camera "perspective"\nWorldBegin\nShape "sphere" "float radius" [ 1e39 ]\n' > "$tmp/range.pbrt"
+"$bin" render "$tmp/range.pbrt" -o "$tmp/range.exr" --quiet > "$tmp/range.txt" 2>&1
+check "float radius 1e39 is an error" test $? -eq 1
+check "float radius 1e39 is located" grep -q "range.pbrt:3:33: .*32-bit float" "$tmp/range.txt"
+printf 'Camera "perspective"\nWorldBegin\nLightSource "point" "spectrum I" [ 400 1  500 1e39 ]\n' > "$tmp/range2.pbrt"
+"$bin" render "$tmp/range2.pbrt" -o "$tmp/range.exr" --quiet > "$tmp/range.txt" 2>&1
+check "an inline spectrum value of 1e39 is located" grep -q "range2.pbrt:3:" "$tmp/range.txt"
+printf '400 1\n500 1\n450 1\n' > "$tmp/bad.spd"
+printf 'Camera "perspective"\nWorldBegin\nLightSource "point" "spectrum I" "bad.spd"\n' > "$tmp/spd.pbrt"
+"$bin" render "$tmp/spd.pbrt" -o "$tmp/range.exr" --quiet > "$tmp/range.txt" 2>&1
+check "a spectrum file out of order names the scene line and the file line" \
+  grep -q "spd.pbrt:3:.*bad.spd:3: wavelengths must increase" "$tmp/range.txt"
+for seed in 1 2 3 4 5 6 7 8; do
+  python3 -c "import random,sys; random.seed($seed); sys.stdout.buffer.write(bytes(random.randrange(256) for _ in range(3000)))" > "$tmp/binary.pbrt"
+  "$bin" render "$tmp/binary.pbrt" -o "$tmp/range.exr" --quiet > "$tmp/binary.txt" 2>&1
+  check "binary scene $seed: an error, printed as text" \
+    python3 -c "import sys; t=open(sys.argv[1],'rb').read().decode('utf-8'); sys.exit(0 if t.startswith('error: ') and all(c=='\n' or ' '<=c!='\x7f' for c in t) else 1)" "$tmp/binary.txt"
+done
+
 # A --time shorter than one pass still renders the first pass (1 spp): not a black image.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/short.pfm" --spp 1000 --time 0.000001 > "$tmp/short.txt" 2>&1
 check "--time shorter than a pass exits 0" test $? -eq 0

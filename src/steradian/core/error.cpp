@@ -12,11 +12,56 @@ bool g_quiet = false;
 std::set<std::string> g_seen;
 }  // namespace
 
+std::string printable(std::string_view text, size_t max_chars) {
+    std::string out;
+    size_t n = 0;
+    for (char ch : text) {
+        if (++n > max_chars) {
+            out += "...";
+            break;
+        }
+        auto c = static_cast<unsigned char>(ch);
+        if (c >= 0x20 && c < 0x7f)
+            out += ch;
+        else
+            out += fmt::format("\\x{:02X}", c);
+    }
+    return out;
+}
+
+std::string terminal_safe(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    const auto* b = reinterpret_cast<const unsigned char*>(text.data());
+    const size_t n = text.size();
+    for (size_t i = 0; i < n;) {
+        unsigned char c = b[i];
+        if (c == '\n' || (c >= 0x20 && c < 0x7f)) {
+            out += char(c);
+            ++i;
+            continue;
+        }
+        // A well-formed UTF-8 sequence of 2 to 4 bytes (no overlong lead bytes C0, C1).
+        size_t len = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3
+                   : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+        bool ok = len > 0 && i + len <= n;
+        for (size_t k = 1; ok && k < len; ++k) ok = (b[i + k] & 0xC0) == 0x80;
+        if (ok) {
+            out.append(text.substr(i, len));
+            i += len;
+        } else {
+            out += fmt::format("\\x{:02X}", c);
+            ++i;
+        }
+    }
+    return out;
+}
+
 void warning(const SourceLoc& loc, const std::string& msg) {
     std::lock_guard lock(g_warn_mutex);
     std::string line = loc.file.empty() ? msg : loc.to_string() + ": " + msg;
     if (g_quiet || !g_seen.insert(line).second) return;
-    std::fprintf(stderr, "warning: %s\n", line.c_str());
+    std::fprintf(stderr, "warning: %s\n", terminal_safe(line).c_str());
 }
 
 void set_warnings_quiet(bool quiet) {

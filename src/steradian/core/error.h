@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace sr {
 
@@ -40,6 +41,16 @@ template <typename... Args>
 [[noreturn]] void throw_error(const SourceLoc& loc, fmt::format_string<Args...> f, Args&&... args) {
     throw Error(loc, fmt::format(f, std::forward<Args>(args)...));
 }
+
+/// Input text for an error message: at most `max_chars` characters (then "..."), and every
+/// byte outside printable ASCII as \xNN, so that a binary file's bytes never reach a
+/// terminal raw.
+std::string printable(std::string_view text, size_t max_chars = 40);
+
+/// A message made safe for a terminal: valid UTF-8 is kept (file names, units), while control
+/// bytes (but newlines) and bytes that are not valid UTF-8 become \xNN. Every error and
+/// warning passes through it before it is printed.
+std::string terminal_safe(std::string_view text);
 
 /// Warning sink: printed to stderr once each unless silenced (tests may redirect it).
 void warning(const SourceLoc& loc, const std::string& msg);

@@ -62,23 +62,7 @@ NumberStatus parse_number(std::string_view token, double& out) {
     return NumberStatus::Ok;
 }
 
-std::string quoted(std::string_view token) {
-    std::string out = "'";
-    size_t n = 0;
-    for (char ch : token) {
-        if (++n > 40) {
-            out += "...";
-            break;
-        }
-        auto c = static_cast<unsigned char>(ch);
-        if (c >= 0x20 && c < 0x7f) {
-            out += ch;
-        } else {
-            out += fmt::format("\\x{:02X}", c);
-        }
-    }
-    return out + "'";
-}
+std::string quoted(std::string_view token) { return "'" + printable(token) + "'"; }
 
 std::string read_file_text(const std::string& path, const char* what) {
     if (std::string why = regular_file_problem(path, kMaxSmallFileBytes); !why.empty())

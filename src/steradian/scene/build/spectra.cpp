@@ -1,4 +1,5 @@
 /// Spectra from parameters: rgb, blackbody, named spectra, inline pairs and spectrum files.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -31,6 +32,12 @@ std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& 
         double a, b;
         if (!(ss >> a)) continue;
         if (!(ss >> b)) throw_error(loc, "{}:{}: expected \"wavelength value\"", path, line_no);
+        if (!std::isfinite(Float(a)) || !std::isfinite(Float(b)))
+            throw_error(loc, "{}:{}: the wavelength and value must be finite floats", path,
+                        line_no);
+        if (!v.empty() && !(Float(a) > v[v.size() - 2]))
+            throw_error(loc, "{}:{}: wavelengths must increase ({} nm after {} nm)", path, line_no,
+                        a, v[v.size() - 2]);
         v.push_back(Float(a));
         v.push_back(Float(b));
     }
@@ -86,6 +93,10 @@ Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::strin
                 throw_error(p.loc, "\"spectrum {}\" needs (wavelength, value) pairs, at least two",
                             p.name);
             std::vector<Float> pairs(p.numbers.begin(), p.numbers.end());
+            for (Float x : pairs)
+                if (!std::isfinite(x))
+                    throw_error(p.loc, "\"spectrum {}\": every wavelength and value must be a "
+                                "finite float, got {}", p.name, x);
             for (size_t i = 2; i < pairs.size(); i += 2)
                 if (!(pairs[i] > pairs[i - 2]))
                     throw_error(p.loc, "\"spectrum {}\": wavelengths must increase", p.name);

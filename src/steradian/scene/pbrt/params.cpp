@@ -1,6 +1,8 @@
 /// The pbrt reader's parameter lists: declarations, typed values and their counts, the
 /// Attribute defaults merged into an entity's parameters, and Option values.
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -132,12 +134,20 @@ Param Parser::parse_param(Stream& s, const Token& decl) {
     }
     auto what = [&] { return fmt::format("parameter \"{} {}\"", type_name, name); };
 
+    // Parameter values are 32-bit floats at run time: beyond their range a value would turn
+    // into an infinity silently (a sphere of radius 1e39).
+    auto check_float_range = [&](double x, const Token& v) {
+        if (std::abs(x) > double(std::numeric_limits<float>::max()))
+            throw_error(s.loc(v), "{}: {} is outside the range of a 32-bit float (+-3.4e38)",
+                        what(), printable(v.text));
+    };
     auto add_value = [&](const Token& v) {
         switch (kind) {
             case ValueKind::Number: {
                 double x;
                 if (v.kind != TokenKind::Number || !parse_double(v.text, x))
                     throw_error(s.loc(v), "{}: expected a number, got {}", what(), describe(v));
+                check_float_range(x, v);
                 p.numbers.push_back(x);
                 return;
             }
@@ -173,6 +183,7 @@ Param Parser::parse_param(Stream& s, const Token& decl) {
                     return;
                 }
                 if (v.kind == TokenKind::Number && p.strings.empty() && parse_double(v.text, x)) {
+                    check_float_range(x, v);
                     p.numbers.push_back(x);
                     return;
                 }

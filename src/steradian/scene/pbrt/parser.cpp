@@ -300,7 +300,7 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                             ? " (a parameter with several values needs brackets: [ ... ])"
                             : "");
         auto it = directive_table().find(tok.text);
-        if (it == directive_table().end()) throw_error(loc, "unknown directive '{}'", tok.text);
+        if (it == directive_table().end()) throw_error(loc, "unknown directive '{}'", printable(tok.text));
 
         switch (it->second) {
             // -- transformations (anywhere)

@@ -9,8 +9,9 @@
 namespace sr::pbrt_detail {
 
 std::string describe(const Token& t) {
-    if (t.kind == TokenKind::String) return fmt::format("string \"{}\"", t.text);
-    return fmt::format("'{}'", t.text);
+    // printable(): a binary file's bytes are escaped, not echoed to the terminal.
+    if (t.kind == TokenKind::String) return fmt::format("string \"{}\"", printable(t.text));
+    return fmt::format("'{}'", printable(t.text));
 }
 
 bool parse_double(std::string_view s, double& v) {
