@@ -1,8 +1,8 @@
 #pragma once
 /// Pixel samplers: the source of every random number a path uses.
 ///
-/// Contract (docs/architecture.md, "The sampler's dimension discipline"): every value is a pure function of (pixel, sample index,
-/// dimension, seed). A sampler holds no state that survives start_pixel_sample() except its
+/// Contract (docs/architecture.md, "The sampler's dimension discipline"): every value is a
+/// pure function of (pixel, sample index, dimension, seed). A sampler holds no state that survives start_pixel_sample() except its
 /// configuration and memoized values that are themselves pure functions of (pixel, dimension,
 /// seed) (the Sobol samplers keep the per-dimension keys of the current pixel, so consecutive
 /// samples of one pixel reuse them) or of (pixel, sample index, dimension, seed) (ZSobolSampler's
