@@ -1,14 +1,15 @@
 #pragma once
 /// Pixel samplers: the source of every random number a path uses.
 ///
-/// Contract (docs/architecture.md, "The sampler's dimension discipline"): every value is a
-/// pure function of (pixel, sample index, dimension, seed). A sampler holds no state that survives start_pixel_sample() except its
-/// configuration and memoized values that are themselves pure functions of (pixel, dimension,
-/// seed) (the Sobol samplers keep the per-dimension keys of the current pixel, so consecutive
-/// samples of one pixel reuse them) or of (pixel, sample index, dimension, seed) (ZSobolSampler's
-/// per-pixel tables of the samples a start_pixel() hint announces), so images do not depend on the
-/// number of threads, on the order in which pixels are visited, or on how work is scheduled. A
-/// Sampler object is not thread-safe: each worker clone()s its own.
+/// Contract (docs/architecture.md, "The sampler's dimension discipline"): every value is a pure
+/// function of (pixel, sample index, dimension, seed). A sampler holds no state that survives
+/// start_pixel_sample() except its configuration and memoized values that are themselves pure
+/// functions of (pixel, dimension, seed) (the Sobol samplers keep the per-dimension keys of the
+/// current pixel, so consecutive samples of one pixel reuse them) or of (pixel, sample index,
+/// dimension, seed) (ZSobolSampler's per-pixel tables of the samples a start_pixel() hint
+/// announces), so images do not depend on the number of threads, on the order in which pixels are
+/// visited, or on how work is scheduled. A Sampler object is not thread-safe: each worker clone()s
+/// its own.
 ///
 /// Dimensions: the first kPixelDimensions = 3 dimensions of every pixel sample are reserved for
 /// the film-plane offset returned by get_pixel_2d() (dimensions 0 and 1) and the wavelength
