@@ -166,26 +166,24 @@ check "measure --time reports unconverged values" grep -q '"converged": false' "
 
 # SIGINT / SIGTERM: the first signal lets the pass in flight finish, the completed passes are
 # written, and the exit status is 128 + the signal; a second signal exits at once.
-"$bin" render "$tmp/small.pbrt" -o "$tmp/int.pfm" --spp 10000000 > "$tmp/int.txt" 2>&1 &
-pid=$!
-sleep 1.5
-kill -INT $pid
-wait $pid
+# interrupted SIGNAL COMMAND...: runs the command, sends SIGNAL after 1.5 s, returns its status.
+interrupted() {
+  local sig=$1
+  shift
+  "$@" &
+  local pid=$!
+  sleep 1.5
+  kill "-$sig" $pid
+  wait $pid
+}
+interrupted INT "$bin" render "$tmp/small.pbrt" -o "$tmp/int.pfm" --spp 10000000 > "$tmp/int.txt" 2>&1
 check "SIGINT during render exits 130" test $? -eq 130
 check "SIGINT during render writes the completed passes" test -s "$tmp/int.pfm"
 check "SIGINT during render says so" grep -q "interrupted" "$tmp/int.txt"
-"$bin" render "$tmp/small.pbrt" -o "$tmp/term.pfm" --spp 10000000 --quiet > "$tmp/term.txt" 2>&1 &
-pid=$!
-sleep 1.5
-kill -TERM $pid
-wait $pid
+interrupted TERM "$bin" render "$tmp/small.pbrt" -o "$tmp/term.pfm" --spp 10000000 --quiet > "$tmp/term.txt" 2>&1
 check "SIGTERM during render exits 143" test $? -eq 143
 check "SIGTERM during render writes the completed passes" test -s "$tmp/term.pfm"
-"$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --json "$tmp/int.json" --quiet > "$tmp/mint.txt" 2>&1 &
-pid=$!
-sleep 1.5
-kill -INT $pid
-wait $pid
+interrupted INT "$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --json "$tmp/int.json" --quiet > "$tmp/mint.txt" 2>&1
 check "SIGINT during measure exits 130" test $? -eq 130
 check "SIGINT during measure writes the readings" grep -q '"interrupted": true' "$tmp/int.json"
 # A pass of minutes: the second signal must not wait for it.
