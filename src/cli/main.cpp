@@ -10,7 +10,6 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include "steradian/core/error.h"
@@ -38,10 +37,6 @@ std::string human_rate(double r) {
     if (r >= 1e6) return fmt::format("{:.2f} M", r / 1e6);
     if (r >= 1e3) return fmt::format("{:.2f} k", r / 1e3);
     return fmt::format("{:.0f} ", r);
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    sr::write_text_file(path, text);
 }
 
 /// A command-line number that must be finite (CLI11's range checks let NaN through).
@@ -187,8 +182,8 @@ int run_measure(const std::string& scene_path, const MeasureArgs& a, int threads
     mo.stop = &g_stop;
     sr::MeasureResult r = sr::measure(scene, mo);
     print_readings(r);
-    if (!a.json.empty()) write_text(a.json, sr::meters_json(r));
-    if (!a.csv.empty()) write_text(a.csv, sr::meters_csv(r));
+    if (!a.json.empty()) sr::write_text_file(a.json, sr::meters_json(r));
+    if (!a.csv.empty()) sr::write_text_file(a.csv, sr::meters_csv(r));
     if (!a.falsecolor.empty()) write_grid_false_color(r, a.falsecolor, quiet);
     if (!quiet) print_measure_summary(r);
     if (r.interrupted)
@@ -289,7 +284,7 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
             mo.time_budget = std::max(time_budget - used, 1e-3);
         }
         sr::MeasureResult r = sr::measure(scene, mo);
-        write_text(meters_json.string(), sr::meters_json(r));
+        sr::write_text_file(meters_json.string(), sr::meters_json(r));
         if (!quiet) {
             std::fprintf(stderr, "steradian: wrote %s\n", meters_json.string().c_str());
             print_measure_summary(r);

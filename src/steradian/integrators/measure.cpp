@@ -130,7 +130,6 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         std::atomic<bool> abandoned{false};
         arena.execute([&] {
             tbb::parallel_for(size_t(0), pending.size() * size_t(R), [&](size_t item) {
-                if (may_abandon && abandoned.load(std::memory_order_relaxed)) return;
                 const size_t vi = pending[item / R];
                 const Value& val = values[vi];
                 const int replica = int(item % R);
