@@ -10,13 +10,16 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <optional>
 
 #include "steradian/core/error.h"
 #include "steradian/core/output_file.h"
 #include "steradian/film/film.h"
 #include "steradian/film/falsecolor.h"
 #include "steradian/film/image_io.h"
+#include "steradian/integrators/checkpoint.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/measure.h"
 #include "steradian/scene/build.h"
@@ -158,14 +161,60 @@ void write_grid_false_color(const sr::MeasureResult& r, const std::string& path,
 }
 
 struct MeasureArgs {
+    std::string scene;
     std::string falsecolor;
     std::string json, csv;
     double rel_error = 1e-3;
     double time_budget = 0;
+    int threads = 0;
+    uint64_t seed = 0;
+    bool quiet = false;
+    std::string checkpoint, resume;
+    double checkpoint_every = 0;
 };
 
-int run_measure(const std::string& scene_path, const MeasureArgs& a, int threads, uint64_t seed,
-                bool quiet) {
+std::string absolute_or_empty(const std::string& path) {
+    return path.empty() ? "" : std::filesystem::absolute(path).string();
+}
+
+/// The checkpoint of a measurement: what decides its readings (the build, the scene's
+/// contents, the target and the seed), the options to resume it with, and its state.
+sr::Checkpoint measure_checkpoint(const MeasureArgs& a, const sr::MeasureOptions& mo,
+                                  const std::string& exe, const std::string& digest) {
+    sr::Checkpoint c;
+    c.set("kind", "measure");
+    c.set("executable", exe);
+    c.set("scene-digest", digest);
+    c.set("rel-error", fmt::format("{}", a.rel_error));
+    c.set("seed", std::to_string(a.seed));
+    c.set("estimator", fmt::format("{} replicas, {} to {} samples", mo.replicas, mo.first_samples,
+                                   mo.max_samples));
+    c.set("scene", std::filesystem::absolute(a.scene).string());
+    c.set("json", absolute_or_empty(a.json));
+    c.set("csv", absolute_or_empty(a.csv));
+    c.set("falsecolor", absolute_or_empty(a.falsecolor));
+    c.set_number("checkpoint-every", a.checkpoint_every);
+    return c;
+}
+
+int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
+    std::optional<sr::Checkpoint> resume;
+    if (!a.resume.empty()) {
+        resume = sr::Checkpoint::load(a.resume);
+        if (resume->get("kind") != "measure")
+            throw sr::Error(fmt::format("checkpoint {} is a {} checkpoint, not a measurement's",
+                                        a.resume, resume->get("kind")));
+        if (a.scene.empty()) a.scene = resume->get("scene");
+        if (!given("--json")) a.json = resume->get("json");
+        if (!given("--csv")) a.csv = resume->get("csv");
+        if (!given("--falsecolor")) a.falsecolor = resume->get("falsecolor");
+        if (!given("--rel-error")) a.rel_error = resume->get_double("rel-error");
+        if (!given("--seed")) a.seed = std::stoull(resume->get("seed"));
+        if (!given("--checkpoint-every"))
+            a.checkpoint_every = resume->get_double("checkpoint-every");
+        if (a.checkpoint.empty()) a.checkpoint = a.resume;
+    }
+    const std::string& scene_path = a.scene;
     sr::SceneDesc desc = sr::parse_pbrt_file(scene_path);
     sr::Scene scene = sr::build_scene(desc, {});
     if (scene.meters.empty())
@@ -174,50 +223,186 @@ int run_measure(const std::string& scene_path, const MeasureArgs& a, int threads
     if (!a.json.empty()) sr::check_output_path(a.json, "--json");
     if (!a.csv.empty()) sr::check_output_path(a.csv, "--csv");
     if (!a.falsecolor.empty()) sr::check_image_output(a.falsecolor);
+    if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
     sr::MeasureOptions mo;
     mo.rel_error = a.rel_error;
     mo.time_budget = a.time_budget;
-    mo.threads = threads;
-    mo.seed = seed;
+    mo.threads = a.threads;
+    mo.seed = a.seed;
     mo.stop = &g_stop;
+    std::string exe, digest;
+    if (resume || !a.checkpoint.empty()) {
+        exe = sr::executable_id();
+        digest = sr::inputs_digest();
+    }
+    sr::MeasureState resumed;
+    if (resume) {
+        resume->expect("executable", exe, "another build of steradian (executable hash)",
+                       "a measurement resumes only with the build that started it");
+        resume->expect("scene-digest", digest, "a scene whose files hash to",
+                       "the scene or a file it reads has changed since");
+        resume->expect("rel-error", fmt::format("{}", a.rel_error), "--rel-error");
+        resume->expect("seed", std::to_string(a.seed), "--seed");
+        size_t values = 0;
+        for (const sr::Meter& m : scene.meters) values += m.points.size();
+        resumed = sr::get_measure_state(*resume, values);
+        mo.resume = &resumed;
+        if (!a.quiet)
+            std::fprintf(stderr, "steradian: resuming %s at round %d\n", a.resume.c_str(),
+                         resumed.round);
+    }
+    if (!a.checkpoint.empty()) {
+        const sr::Checkpoint base = measure_checkpoint(a, mo, exe, digest);
+        mo.checkpoint_every = a.checkpoint_every;
+        mo.checkpoint = [&, base](const sr::MeasureState& state) {
+            sr::Checkpoint c = base;
+            sr::put_measure_state(c, state);
+            c.save(a.checkpoint);
+        };
+    }
     sr::MeasureResult r = sr::measure(scene, mo);
     print_readings(r);
     if (!a.json.empty()) sr::write_text_file(a.json, sr::meters_json(r));
     if (!a.csv.empty()) sr::write_text_file(a.csv, sr::meters_csv(r));
-    if (!a.falsecolor.empty()) write_grid_false_color(r, a.falsecolor, quiet);
-    if (!quiet) print_measure_summary(r);
+    if (!a.falsecolor.empty()) write_grid_false_color(r, a.falsecolor, a.quiet);
+    if (!a.quiet) print_measure_summary(r);
     if (r.interrupted)
         std::fprintf(stderr, "steradian: interrupted: the readings above are those reached\n");
+    if (!a.checkpoint.empty() && !r.all_converged && r.time_limited)
+        std::fprintf(stderr, "steradian: checkpoint %s holds the measurement; continue with: "
+                     "steradian measure --resume %s\n", a.checkpoint.c_str(), a.checkpoint.c_str());
     return exit_status();
 }
 
-int run_render(const std::string& scene_path, std::vector<std::string> outs, int spp, int threads,
-               uint64_t seed, double time_budget, bool quiet, float exposure,
-               const std::string& luminance_out, const std::string& falsecolor_out) {
+struct RenderArgs {
+    std::string scene;
+    std::vector<std::string> outs;
+    int spp = 0, threads = 0;
+    uint64_t seed = 0;
+    double time_budget = 0;
+    bool quiet = false;
+    float exposure = 0;
+    std::string luminance_out, falsecolor_out;
+    std::string checkpoint, resume;
+    double checkpoint_every = 0;
+};
+
+/// The checkpoint of a render: what decides its result (the build, the scene's contents,
+/// the sample count and seed) to be compared on resume, the options to resume it with, and
+/// the film's state.
+sr::Checkpoint render_checkpoint(const RenderArgs& a, const std::string& exe,
+                                 const std::string& digest, int total_spp) {
+    sr::Checkpoint c;
+    c.set("kind", "render");
+    c.set("executable", exe);
+    c.set("scene-digest", digest);
+    c.set("samples-per-pixel", std::to_string(total_spp));
+    c.set("seed", std::to_string(a.seed));
+    namespace fs = std::filesystem;
+    c.set("scene", fs::absolute(a.scene).string());
+    std::string outs;
+    for (const std::string& o : a.outs) outs += fs::absolute(o).string() + "\n";
+    c.set("outputs", outs);
+    c.set("exposure", fmt::format("{}", a.exposure));
+    c.set("luminance", a.luminance_out.empty() ? "" : fs::absolute(a.luminance_out).string());
+    c.set("falsecolor", a.falsecolor_out.empty() ? "" : fs::absolute(a.falsecolor_out).string());
+    c.set_number("checkpoint-every", a.checkpoint_every);
+    return c;
+}
+
+/// `render --resume FILE`: the options the command line leaves out come from the checkpoint
+/// (`given` says which it gave).
+void complete_from_checkpoint(RenderArgs& a, const sr::Checkpoint& c,
+                              const std::function<bool(const char*)>& given) {
+    if (c.get("kind") != "render")
+        throw sr::Error(fmt::format("checkpoint {} is a {} checkpoint, not a render's", c.path(),
+                                    c.get("kind")));
+    if (a.scene.empty()) a.scene = c.get("scene");
+    if (!given("--output")) {
+        a.outs.clear();
+        std::string outs = c.get("outputs");
+        for (size_t p = 0, nl; (nl = outs.find('\n', p)) != std::string::npos; p = nl + 1)
+            a.outs.push_back(outs.substr(p, nl - p));
+    }
+    if (!given("--spp")) a.spp = int(std::stoi(c.get("samples-per-pixel")));
+    if (!given("--seed")) a.seed = std::stoull(c.get("seed"));
+    if (!given("--exposure")) a.exposure = float(c.get_double("exposure"));
+    if (!given("--luminance")) a.luminance_out = c.get("luminance");
+    if (!given("--falsecolor")) a.falsecolor_out = c.get("falsecolor");
+    if (!given("--checkpoint-every")) a.checkpoint_every = c.get_double("checkpoint-every");
+    if (a.checkpoint.empty()) a.checkpoint = a.resume;
+}
+
+int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     auto wall0 = std::chrono::steady_clock::now();
-    sr::SceneDesc desc = sr::parse_pbrt_file(scene_path);
+    std::optional<sr::Checkpoint> resume;
+    if (!a.resume.empty()) {
+        resume = sr::Checkpoint::load(a.resume);
+        complete_from_checkpoint(a, *resume, given);
+    }
+    if (a.scene.empty()) throw sr::Error("render: a scene file is required (or --resume)");
+    sr::SceneDesc desc = sr::parse_pbrt_file(a.scene);
     sr::BuildOptions bo;
-    bo.spp_override = spp;
+    bo.spp_override = a.spp;
     sr::Scene scene = sr::build_scene(desc, bo);
     double load_wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    std::vector<std::string>& outs = a.outs;
     if (outs.empty()) outs.push_back(scene.film.filename);
     // Every output is checked before rendering, not found unwritable after it.
     for (const std::string& out : outs) sr::check_image_output(out);
-    if (!luminance_out.empty()) sr::check_image_output(luminance_out, 1);
-    if (!falsecolor_out.empty()) sr::check_image_output(falsecolor_out);
+    if (!a.luminance_out.empty()) sr::check_image_output(a.luminance_out, 1);
+    if (!a.falsecolor_out.empty()) sr::check_image_output(a.falsecolor_out);
+    if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
     std::filesystem::path meters_json(outs.front());
     meters_json.replace_extension(".meters.json");
     if (!scene.meters.empty()) sr::check_output_path(meters_json.string(), "the meters' readings");
     sr::Film film(scene.film);
     sr::RenderOptions ro;
-    ro.spp = spp;
-    ro.threads = threads;
-    ro.seed = seed;
-    ro.time_budget = time_budget;
-    ro.progress = !quiet && isatty(STDERR_FILENO);
+    ro.spp = a.spp;
+    ro.threads = a.threads;
+    ro.seed = a.seed;
+    ro.time_budget = a.time_budget;
+    ro.progress = !a.quiet && isatty(STDERR_FILENO);
     ro.stop = &g_stop;
+    const int total_spp = sr::render_samples_per_pixel(scene, ro);
+    std::string exe, digest;
+    if (resume || !a.checkpoint.empty()) {
+        exe = sr::executable_id();
+        digest = sr::inputs_digest();
+    }
+    sr::RenderStats resumed;
+    if (resume) {
+        resume->expect("executable", exe, "another build of steradian (executable hash)",
+                       "a render resumes only with the build that started it");
+        resume->expect("scene-digest", digest, "a scene whose files hash to",
+                       "the scene or a file it reads has changed since");
+        resume->expect("samples-per-pixel", std::to_string(total_spp), "samples per pixel",
+                       "resume with the sample count it was started with");
+        resume->expect("seed", std::to_string(a.seed), "--seed");
+        resumed = sr::get_render_state(*resume, film);
+        ro.resume = &resumed;
+        if (!a.quiet)
+            std::fprintf(stderr, "steradian: resuming %s at %d of %d samples per pixel\n",
+                         a.resume.c_str(), resumed.spp, total_spp);
+    }
+    if (!a.checkpoint.empty()) {
+        const sr::Checkpoint base = render_checkpoint(a, exe, digest, total_spp);
+        ro.checkpoint_every = a.checkpoint_every;
+        ro.checkpoint = [&, base](const sr::RenderStats& so_far) {
+            sr::Checkpoint c = base;
+            sr::put_render_state(c, film, so_far);
+            c.save(a.checkpoint);
+        };
+    }
     sr::RenderStats st = sr::render(scene, film, ro);
+    const bool quiet = a.quiet;
+    const float exposure = a.exposure;
+    const std::string& luminance_out = a.luminance_out;
+    const std::string& falsecolor_out = a.falsecolor_out;
+    const int threads = a.threads;
+    const uint64_t seed = a.seed;
+    const double time_budget = a.time_budget;
     sr::WriteOptions wo;
     wo.exposure = exposure;
     wo.half_float = scene.film.half_float;
@@ -249,6 +434,9 @@ int run_render(const std::string& scene_path, std::vector<std::string> outs, int
     if (st.interrupted)
         std::fprintf(stderr, "steradian: interrupted: the image has the %d completed samples per "
                      "pixel\n", st.spp);
+    if (!a.checkpoint.empty() && st.spp < total_spp)
+        std::fprintf(stderr, "steradian: checkpoint %s holds them; continue with: steradian "
+                     "render --resume %s\n", a.checkpoint.c_str(), a.checkpoint.c_str());
     if (st.nonfinite > 0)
         std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were zeroed\n",
                      (unsigned long long)st.nonfinite);
@@ -301,47 +489,47 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     auto* render = app.add_subcommand("render", "Render a pbrt-v4 scene to an image");
-    std::string scene;
-    std::vector<std::string> outs;
-    int spp = 0, threads = 0;
-    uint64_t seed = 0;
-    double time_budget = 0;
-    bool quiet = false;
-    float exposure = 0;
-    render->add_option("scene", scene, "pbrt-v4 scene file")->required();
-    render->add_option("-o,--output", outs,
+    RenderArgs ra;
+    render->add_option("scene", ra.scene, "pbrt-v4 scene file (with --resume: the checkpoint's)");
+    render->add_option("-o,--output", ra.outs,
                        "output image (.exr linear float, .pfm, .png 8-bit sRGB); may be given "
                        "several times; default: the Film's filename")
         ->allow_extra_args(false)
         ->take_all();
-    render->add_option("--spp", spp, "samples per pixel (default: the scene's Sampler)")
+    render->add_option("--spp", ra.spp, "samples per pixel (default: the scene's Sampler)")
         ->check(CLI::Range(1, sr::kMaxSamplesPerPixel));
-    render->add_option("--threads", threads, "worker threads (default: all cores)")
+    render->add_option("--threads", ra.threads, "worker threads (default: all cores)")
         ->check(CLI::Range(0, kMaxThreads));
-    render->add_option("--seed", seed, "random seed added to the scene's sampler seed")
+    render->add_option("--seed", ra.seed, "random seed added to the scene's sampler seed")
         ->check(kSeed);
-    render->add_option("--time", time_budget,
+    render->add_option("--time", ra.time_budget,
                        "time budget in seconds: stop after the last full pass within it (at "
                        "least one pass of 1 sample per pixel is always completed)")
         ->check(kFinite & CLI::NonNegativeNumber);
-    render->add_option("--exposure", exposure, "exposure in stops for 8-bit outputs (PNG)")
+    render->add_option("--exposure", ra.exposure, "exposure in stops for 8-bit outputs (PNG)")
         ->check(kFinite & CLI::Range(-126.0, 127.0));
-    render->add_flag("-q,--quiet", quiet, "no progress bar or summary");
-    std::string luminance_out;
-    render->add_option("--luminance", luminance_out,
+    render->add_flag("-q,--quiet", ra.quiet, "no progress bar or summary");
+    render->add_option("--luminance", ra.luminance_out,
                        "also write the luminance image in cd/m2 (single-channel .exr)");
-    std::string falsecolor_out;
-    render->add_option("--falsecolor", falsecolor_out,
+    render->add_option("--falsecolor", ra.falsecolor_out,
                        "also write a false-colour image of luminance with a labelled scale (.png)");
+    render->add_option("--checkpoint", ra.checkpoint,
+                       "save the render's state to this file at pass boundaries (atomically), "
+                       "so that --resume can continue it after an interruption or a crash");
+    render->add_option("--checkpoint-every", ra.checkpoint_every,
+                       "seconds between checkpoints (default 0: at every pass boundary; passes "
+                       "are sized to end about this often)")
+        ->check(kFinite & CLI::NonNegativeNumber);
+    render->add_option("--resume", ra.resume,
+                       "continue the render saved in this checkpoint: same scene, samples per "
+                       "pixel and seed, identical image; options not given come from it, and it "
+                       "is updated as the render goes on");
 
     auto* measure = app.add_subcommand(
         "measure", "Compute the scene's Meter readings (lx, W/m2, cd/m2) with standard errors");
-    std::string mscene;
     MeasureArgs margs;
-    int mthreads = 0;
-    uint64_t mseed = 0;
-    bool mquiet = false;
-    measure->add_option("scene", mscene, "pbrt-v4 scene file with Meter directives")->required();
+    measure->add_option("scene", margs.scene,
+                        "pbrt-v4 scene file with Meter directives (with --resume: the checkpoint's)");
     measure->add_option("--json", margs.json, "write the readings as JSON");
     measure->add_option("--csv", margs.csv, "write the readings as CSV");
     measure->add_option("--rel-error", margs.rel_error,
@@ -350,12 +538,21 @@ int main(int argc, char** argv) {
     measure->add_option("--time", margs.time_budget,
                         "time budget in seconds: report what is reached by then")
         ->check(kFinite & CLI::NonNegativeNumber);
-    measure->add_option("--threads", mthreads, "worker threads (default: all cores)")
+    measure->add_option("--threads", margs.threads, "worker threads (default: all cores)")
         ->check(CLI::Range(0, kMaxThreads));
-    measure->add_option("--seed", mseed, "random seed")->check(kSeed);
+    measure->add_option("--seed", margs.seed, "random seed")->check(kSeed);
     measure->add_option("--falsecolor", margs.falsecolor,
                         "write false-colour images of the grid meters with a labelled scale (.png)");
-    measure->add_flag("-q,--quiet", mquiet, "no summary on stderr");
+    measure->add_flag("-q,--quiet", margs.quiet, "no summary on stderr");
+    measure->add_option("--checkpoint", margs.checkpoint,
+                        "save the measurement's state to this file as it goes (atomically), so "
+                        "that --resume can continue it after an interruption or a crash");
+    measure->add_option("--checkpoint-every", margs.checkpoint_every,
+                        "seconds between checkpoints (default 0: after every batch of work)")
+        ->check(kFinite & CLI::NonNegativeNumber);
+    measure->add_option("--resume", margs.resume,
+                        "continue the measurement saved in this checkpoint: same scene, target and "
+                        "seed, identical readings; options not given come from it");
 
     try {
         app.parse(argc, argv);
@@ -364,10 +561,16 @@ int main(int argc, char** argv) {
     }
     install_signal_handlers();
     try {
-        if (*render)
-            return run_render(scene, outs, spp, threads, seed, time_budget, quiet, exposure,
-                              luminance_out, falsecolor_out);
-        if (*measure) return run_measure(mscene, margs, mthreads, mseed, mquiet);
+        if (*render) {
+            if (ra.scene.empty() && ra.resume.empty())
+                throw sr::Error("render: a scene file is required (or --resume CHECKPOINT)");
+            return run_render(ra, [&](const char* name) { return render->count(name) > 0; });
+        }
+        if (*measure) {
+            if (margs.scene.empty() && margs.resume.empty())
+                throw sr::Error("measure: a scene file is required (or --resume CHECKPOINT)");
+            return run_measure(margs, [&](const char* name) { return measure->count(name) > 0; });
+        }
     } catch (const sr::Error& e) {
         std::fprintf(stderr, "error: %s\n", sr::terminal_safe(e.what()).c_str());
         return 1;

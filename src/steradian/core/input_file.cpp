@@ -5,12 +5,30 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <set>
 
 #include "steradian/core/error.h"
 
 namespace sr {
 
-std::string regular_file_problem(const std::string& path, uint64_t limit, uint64_t* size) {
+namespace {
+
+std::mutex g_inputs_mutex;
+std::set<std::string>& inputs() {
+    static std::set<std::string> s;
+    return s;
+}
+
+}  // namespace
+
+std::vector<std::string> input_files_read() {
+    std::lock_guard lock(g_inputs_mutex);
+    return {inputs().begin(), inputs().end()};
+}
+
+std::string regular_file_problem(const std::string& path, uint64_t limit, uint64_t* size,
+                                 bool record) {
     std::error_code ec;
     const std::filesystem::file_status st = std::filesystem::status(path, ec);
     if (!std::filesystem::exists(st)) return std::generic_category().message(ENOENT);
@@ -24,18 +42,24 @@ std::string regular_file_problem(const std::string& path, uint64_t limit, uint64
         return fmt::format("{} bytes, more than the limit of {} bytes ({} MiB)", n, limit,
                            limit >> 20);
     if (size) *size = n;
+    if (record) {
+        std::lock_guard lock(g_inputs_mutex);
+        inputs().insert(path);
+    }
     return "";
 }
 
-uint64_t check_regular_file(const std::string& path, uint64_t limit, std::string_view what) {
+uint64_t check_regular_file(const std::string& path, uint64_t limit, std::string_view what,
+                            bool record) {
     uint64_t size = 0;
-    if (std::string why = regular_file_problem(path, limit, &size); !why.empty())
+    if (std::string why = regular_file_problem(path, limit, &size, record); !why.empty())
         throw Error(fmt::format("cannot read {} \"{}\": {}", what, path, why));
     return size;
 }
 
-std::string read_regular_file(const std::string& path, uint64_t limit, std::string_view what) {
-    const uint64_t size = check_regular_file(path, limit, what);
+std::string read_regular_file(const std::string& path, uint64_t limit, std::string_view what,
+                              bool record) {
+    const uint64_t size = check_regular_file(path, limit, what, record);
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) throw Error(fmt::format("cannot read {} \"{}\": {}", what, path, std::strerror(errno)));
     std::string contents(size, '\0');

@@ -1,5 +1,8 @@
 #include "steradian/film/film.h"
 
+#include <fmt/format.h>
+
+#include "steradian/core/error.h"
 #include "steradian/spectrum/spectrum.h"
 
 namespace sr {
@@ -95,6 +98,13 @@ void Film::merge(const std::vector<PixelSum>& pass) {
         for (int c = 0; c < 3; ++c) m_pixels[i].xyz[c] += pass[i].xyz[c];
         m_pixels[i].weight += pass[i].weight;
     }
+}
+
+void Film::set_sums(std::vector<PixelSum> sums) {
+    if (sums.size() != m_pixels.size())
+        throw Error(fmt::format("film: {} pixel sums for a film of {} pixels", sums.size(),
+                                m_pixels.size()));
+    m_pixels = std::move(sums);
 }
 
 Image Film::rgb_image() const {

@@ -53,6 +53,11 @@ public:
     }
     /// Adds a completed pass into the film.
     void merge(const std::vector<PixelSum>& pass);
+    /// The accumulated sums, pixel by pixel in rows of the crop window.
+    const std::vector<PixelSum>& sums() const { return m_pixels; }
+    /// Replaces the accumulated sums (a pass continued from sums(), or a checkpoint's).
+    /// Throws sr::Error unless `sums` has one entry per pixel.
+    void set_sums(std::vector<PixelSum> sums);
     /// The image (crop-window size) as linear sRGB.
     Image rgb_image() const;
     /// Luminance Y per pixel (cd/m^2 with the units of docs/units.md).

@@ -24,11 +24,26 @@ struct RenderOptions {
     /// When this becomes true (a signal handler sets it), the pass in flight completes and
     /// rendering stops there: the film holds every completed pass. Null: never.
     const std::atomic<bool>* stop = nullptr;
+    /// Checkpoints: when set, called at a pass boundary once `checkpoint_every` seconds have
+    /// passed since the last call (0: at every boundary), and at the last boundary, with the
+    /// statistics so far (the film holds samples [0, stats.spp) of every pixel). Passes are
+    /// then sized to end within about `checkpoint_every` seconds.
+    std::function<void(const struct RenderStats& so_far)> checkpoint;
+    double checkpoint_every = 0;
+    /// Resuming: the film already holds samples [0, resume->spp) of every pixel (a
+    /// checkpoint's sums, Film::set_sums), and `resume` the statistics of that work.
+    const struct RenderStats* resume = nullptr;
 };
 
-/// Largest pass, in samples per pixel: the film merges a pass at a time, so this bounds the
+/// Largest pass, in samples per pixel: the film takes a pass at a time, so this bounds the
 /// work lost to an interruption and the wait for the pass in flight.
 inline constexpr int kMaxPassSpp = 64;
+/// Pass boundaries (in samples per pixel) are multiples of this, except the total and the
+/// 1-spp first pass of a time-budgeted render: a pixel's samples are traced in packets of
+/// this many from a multiple of it, so that every schedule of passes that keeps to it traces
+/// the same packets, and (each pixel summing its samples in index order whatever the passes)
+/// gives the same image bit for bit, a checkpointed and resumed render included.
+inline constexpr int kPassAlign = 8;
 
 struct RenderStats {
     double wall_seconds = 0;
@@ -45,6 +60,10 @@ struct RenderStats {
 /// Renders `scene` into `film` with the scene's integrator. Throws sr::Error for
 /// unsupported settings.
 RenderStats render(const Scene& scene, Film& film, const RenderOptions& options);
+
+/// The samples per pixel render() takes: options.spp if positive, else the scene's
+/// Sampler's (for "stratified", xsamples * ysamples).
+int render_samples_per_pixel(const Scene& scene, const RenderOptions& options);
 
 /// Process CPU time (user + system) in seconds, and peak resident set size in bytes.
 double process_cpu_seconds();

@@ -94,99 +94,160 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     for (size_t mi = 0; mi < scene.meters.size(); ++mi) {
         MeterReading r;
         r.meter = scene.meters[mi];
-        size_t n = scene.meters[mi].points.size();
-        r.values.assign(n, 0);
-        r.stderrs.assign(n, 0);
-        r.samples.assign(n, 0);
-        r.converged.assign(n, 0);
         res.readings.push_back(std::move(r));
-        for (size_t k = 0; k < n; ++k) values.push_back({int(mi), k});
+        for (size_t k = 0; k < scene.meters[mi].points.size(); ++k) values.push_back({int(mi), k});
     }
-
+    const size_t nv = values.size();
     const int R = opt.replicas;
+
+    MeasureState st;
+    if (opt.resume) {
+        st = *opt.resume;
+        st.time_limited = false;  // a new run, with its own budget
+        const bool fits = st.round >= 0 && st.next_n.size() == nv && st.values.size() == nv &&
+                          st.stderrs.size() == nv && st.samples.size() == nv &&
+                          st.converged.size() == nv &&
+                          st.item_done.size() == st.replica_mean.size();
+        if (!fits) throw Error(fmt::format("resume: a state of another measurement ({} values, "
+                                           "this one has {})", st.next_n.size(), nv));
+    } else {
+        // Per value: the samples per replica of its next round (0 = finished).
+        st.next_n.assign(nv, std::max(1, opt.first_samples));
+        st.values.assign(nv, 0);
+        st.stderrs.assign(nv, 0);
+        st.samples.assign(nv, 0);
+        st.converged.assign(nv, 0);
+    }
+    const MeasureState before = opt.resume ? *opt.resume : MeasureState{};
+    auto state_so_far = [&] {
+        MeasureState s = st;
+        s.wall_seconds = before.wall_seconds + elapsed();
+        s.cpu_seconds = before.cpu_seconds + process_cpu_seconds() - cpu0;
+        return s;
+    };
+    double last_checkpoint = 0;
+    auto checkpoint = [&](bool now) {
+        if (!opt.checkpoint || (!now && elapsed() - last_checkpoint < opt.checkpoint_every))
+            return;
+        opt.checkpoint(state_so_far());
+        last_checkpoint = elapsed();
+    };
+
     int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_arena arena(threads);
 
-    // Per value: the samples per replica of its next round (0 = finished).
-    std::vector<int64_t> next_n(values.size(), std::max(1, opt.first_samples));
-    std::atomic<uint64_t> paths{0}, rays{0}, nonfinite{0};
-    for (int round = 0;; ++round) {
+    const int first_round = st.round;  // this run's first round always completes
+    double seconds_per_sample = 0;      // wall, of the batches so far
+    for (;; ++st.round) {
+        const int round = st.round;
         std::vector<size_t> pending;
-        for (size_t i = 0; i < values.size(); ++i)
-            if (next_n[i] > 0) pending.push_back(i);
+        for (size_t i = 0; i < nv; ++i)
+            if (st.next_n[i] > 0) pending.push_back(i);
         if (pending.empty()) break;
-        std::vector<double> replica_mean(pending.size() * size_t(R), 0);
+        const size_t items = pending.size() * size_t(R);
+        if (st.item_done.empty()) {
+            st.item_done.assign(items, 0);
+            st.replica_mean.assign(items, 0);
+        } else if (st.item_done.size() != items) {
+            throw Error(fmt::format("resume: round {} has {} items, the state {}", round, items,
+                                    st.item_done.size()));
+        }
         const uint64_t round_seed = hash(opt.seed, uint64_t(round), uint64_t(0x6d65746572));
         // The time budget is a bound: a round after the pilot (which every value needs for a
         // standard error) is abandoned as soon as the budget is spent, checked every 256
         // samples, and its values keep the previous round's estimates. (Rounds grow up to
         // 64-fold, so waiting for the round to end could overrun the budget many times.)
-        const bool may_abandon = (opt.time_budget > 0 || opt.stop) && round > 0;
+        const bool may_abandon = (opt.time_budget > 0 || opt.stop) && round > first_round;
         auto must_stop = [&] {
             return (opt.time_budget > 0 && elapsed() > opt.time_budget) ||
                    (opt.stop && opt.stop->load(std::memory_order_relaxed));
         };
         std::atomic<bool> abandoned{false};
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), pending.size() * size_t(R), [&](size_t item) {
-                const size_t vi = pending[item / R];
-                const Value& val = values[vi];
-                const int replica = int(item % R);
-                const Meter& m = scene.meters[val.meter];
-                const int n = int(next_n[vi]);
-                PaddedSobolSampler sampler(n, round_seed);
-                PathCounters counters;
-                uint64_t bad = 0;
-                double sum = 0;
-                for (int i = 0; i < n; ++i) {
-                    if (may_abandon && (i & 255) == 0 &&
-                        (abandoned.load(std::memory_order_relaxed) || must_stop())) {
-                        abandoned = true;
-                        return;
+        // The items left, in batches: one without checkpoints, else batches sized from the
+        // time the previous ones took to end about at the next checkpoint. Each item is a
+        // pure function of (value, replica, round, seed), so batches change nothing.
+        std::vector<size_t> todo;
+        for (size_t item = 0; item < items; ++item)
+            if (!st.item_done[item]) todo.push_back(item);
+        size_t batch = opt.checkpoint ? size_t(2 * threads) : todo.size();
+        for (size_t b0 = 0; b0 < todo.size() && !abandoned;) {
+            if (opt.checkpoint && seconds_per_sample > 0) {
+                const double per_item = seconds_per_sample * double(st.next_n[pending[todo[b0] / R]]);
+                batch = size_t(std::clamp(std::max(opt.checkpoint_every, 0.5) * threads / per_item,
+                                          1.0, double(todo.size())));
+            }
+            const size_t b1 = std::min(todo.size(), b0 + batch);
+            const double batch_t0 = elapsed();
+            std::atomic<uint64_t> paths{0}, rays{0}, nonfinite{0};
+            arena.execute([&] {
+                tbb::parallel_for(b0, b1, [&](size_t t) {
+                    const size_t item = todo[t];
+                    const size_t vi = pending[item / R];
+                    const Value& val = values[vi];
+                    const int replica = int(item % R);
+                    const Meter& m = scene.meters[val.meter];
+                    const int n = int(st.next_n[vi]);
+                    PaddedSobolSampler sampler(n, round_seed);
+                    PathCounters counters;
+                    uint64_t bad = 0;
+                    double sum = 0;
+                    for (int i = 0; i < n; ++i) {
+                        if (may_abandon && (i & 255) == 0 &&
+                            (abandoned.load(std::memory_order_relaxed) || must_stop())) {
+                            abandoned = true;
+                            return;
+                        }
+                        sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
+                        double v = meter_sample(scene, m, val.point, sampler, counters);
+                        if (!std::isfinite(v)) {
+                            ++bad;
+                            v = 0;
+                        }
+                        sum += v;
                     }
-                    sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
-                    double v = meter_sample(scene, m, val.point, sampler, counters);
-                    if (!std::isfinite(v)) {
-                        ++bad;
-                        v = 0;
-                    }
-                    sum += v;
-                }
-                replica_mean[item] = sum / n;
-                paths += uint64_t(n);
-                rays += counters.rays;
-                nonfinite += bad;
+                    st.replica_mean[item] = sum / n;
+                    st.item_done[item] = 1;
+                    paths += uint64_t(n);
+                    rays += counters.rays;
+                    nonfinite += bad;
+                });
             });
-        });
+            st.paths += paths;
+            st.rays += rays;
+            st.nonfinite += nonfinite;
+            if (paths > 0) seconds_per_sample = (elapsed() - batch_t0) * threads / double(paths);
+            b0 = b1;
+            if (!abandoned && b0 < todo.size()) checkpoint(false);
+        }
         if (abandoned) {
-            res.time_limited = true;
+            st.time_limited = true;
+            checkpoint(true);
             break;
         }
         const bool out_of_time = must_stop();
         for (size_t j = 0; j < pending.size(); ++j) {
             const size_t vi = pending[j];
+            const double* rm = &st.replica_mean[j * R];
             double mean = 0;
-            for (int r = 0; r < R; ++r) mean += replica_mean[j * R + r];
+            for (int r = 0; r < R; ++r) mean += rm[r];
             mean /= R;
             double var = 0;
-            for (int r = 0; r < R; ++r) var += sqr(replica_mean[j * R + r] - mean);
+            for (int r = 0; r < R; ++r) var += sqr(rm[r] - mean);
             var /= R - 1;
             const double se = std::sqrt(var / R);
-            const int64_t n = next_n[vi];
-            const Value& val = values[vi];
-            MeterReading& rd = res.readings[val.meter];
-            rd.values[val.point] = mean;
-            rd.stderrs[val.point] = se;
-            rd.samples[val.point] = n * R;
+            const int64_t n = st.next_n[vi];
+            st.values[vi] = mean;
+            st.stderrs[vi] = se;
+            st.samples[vi] = n * R;
             const double target = opt.rel_error * std::abs(mean);
             const bool ok = se <= target;
-            rd.converged[val.point] = ok;
+            st.converged[vi] = ok;
             // The first round is a pilot: it only sizes the next one, so the reported
             // estimate never comes from the round whose variance decided the sample count.
             if ((ok && round > 0) || se == 0) {
-                rd.converged[val.point] = 1;
-                next_n[vi] = 0;
+                st.converged[vi] = 1;
+                st.next_n[vi] = 0;
                 continue;
             }
             // Size the next round for the target with a 20% margin, assuming the error falls
@@ -194,15 +255,29 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
             double grow = target > 0 ? sqr(se / (0.8 * target)) : 64;
             int64_t want = n * 2;
             while (want < int64_t(std::ceil(double(n) * std::min(grow, 64.0)))) want *= 2;
-            if (out_of_time || want > opt.max_samples) {
-                next_n[vi] = 0;
-                if (out_of_time) res.time_limited = true;
-            } else {
-                next_n[vi] = want;
-            }
+            st.next_n[vi] = want > opt.max_samples ? 0 : want;
         }
+        st.item_done.clear();
+        st.replica_mean.clear();
+        // Stopped (budget or signal): the values short of their target keep their next round
+        // in the state, so that a checkpoint resumes it.
+        const bool finished =
+            std::none_of(st.next_n.begin(), st.next_n.end(), [](int64_t n) { return n > 0; });
+        if (out_of_time && !finished) st.time_limited = true;
+        ++st.round;  // the state saved is between this round and the next
+        checkpoint(finished || out_of_time);
+        if (out_of_time) break;
+        --st.round;
     }
 
+    for (size_t vi = 0; vi < nv; ++vi) {
+        MeterReading& rd = res.readings[values[vi].meter];
+        rd.values.push_back(st.values[vi]);
+        rd.stderrs.push_back(st.stderrs[vi]);
+        rd.samples.push_back(st.samples[vi]);
+        rd.converged.push_back(st.converged[vi]);
+    }
+    res.time_limited = st.time_limited;
     for (MeterReading& r : res.readings) {
         for (uint8_t c : r.converged) res.all_converged = res.all_converged && c;
         if (r.meter.kind != MeterKind::Grid || r.values.empty()) continue;
@@ -220,11 +295,12 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         r.uniformity = r.avg > 0 ? r.min / r.avg : 0;
     }
     res.interrupted = opt.stop && opt.stop->load();
-    res.paths = paths;
-    res.rays = rays;
-    res.nonfinite = nonfinite;
-    res.wall_seconds = elapsed();
-    res.cpu_seconds = process_cpu_seconds() - cpu0;
+    const MeasureState total = state_so_far();
+    res.paths = total.paths;
+    res.rays = total.rays;
+    res.nonfinite = total.nonfinite;
+    res.wall_seconds = total.wall_seconds;
+    res.cpu_seconds = total.cpu_seconds;
     return res;
 }
 

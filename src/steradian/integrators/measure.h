@@ -18,6 +18,7 @@
 /// average the radiance over their acceptance cone (uniform in solid angle).
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,23 @@ class Scene;
 class Sampler;
 struct PathCounters;
 
+/// A measurement's state between two batches of its work: what a checkpoint saves. Values
+/// are the meters' points in order (meter 0's, then meter 1's, ...).
+struct MeasureState {
+    int round = 0;                   ///< the round in progress (or next)
+    std::vector<int64_t> next_n;     ///< per value: samples per replica of that round; 0: done
+    std::vector<double> values, stderrs;
+    std::vector<int64_t> samples;
+    std::vector<uint8_t> converged;
+    /// The round in progress, per (pending value, replica) item in order: done, and its mean.
+    /// Empty between rounds.
+    std::vector<uint8_t> item_done;
+    std::vector<double> replica_mean;
+    bool time_limited = false;
+    uint64_t paths = 0, rays = 0, nonfinite = 0;
+    double wall_seconds = 0, cpu_seconds = 0;
+};
+
 struct MeasureOptions {
     double rel_error = 1e-3;  ///< target relative standard error of every value
     double time_budget = 0;   ///< seconds; 0 = none. A bound: a round after the pilot is
@@ -39,6 +57,14 @@ struct MeasureOptions {
     /// When this becomes true, measuring stops as the time budget stops it (the pilot round
     /// completes; a later round is abandoned). Null: never.
     const std::atomic<bool>* stop = nullptr;
+    /// Checkpoints: when set, called with the state once `checkpoint_every` seconds have
+    /// passed since the last call (0: after every batch of work), and when measuring stops.
+    /// The work is then done in batches sized to end about that often.
+    std::function<void(const MeasureState&)> checkpoint;
+    double checkpoint_every = 0;
+    /// Resuming: continue from this state (a checkpoint's, of the same scene and options);
+    /// the readings are those of an uninterrupted measurement, bit for bit.
+    const MeasureState* resume = nullptr;
     int replicas = 32;        ///< independent randomisations per value (>= 2)
     int first_samples = 32;   ///< samples per replica in the pilot round (power of two)
     /// Samples per replica beyond which a value stops unconverged (a power of two).

@@ -171,19 +171,24 @@ private:
 
 }  // namespace
 
+int render_samples_per_pixel(const Scene& scene, const RenderOptions& opt) {
+    if (scene.sampler.type == "stratified")
+        return scene.sampler.x_samples * scene.sampler.y_samples;
+    return opt.spp > 0 ? opt.spp : scene.sampler.spp;
+}
+
 RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     if (scene.integrator.type != "path")
         throw Error(fmt::format("integrator \"{}\" is not supported yet", scene.integrator.type));
     const FilmParams& fp = film.params();
-    const int spp = opt.spp > 0 ? opt.spp : scene.sampler.spp;
+    const int total_spp = render_samples_per_pixel(scene, opt);
     const uint64_t seed = scene.sampler.seed + opt.seed;
     std::unique_ptr<Sampler> proto;
     if (scene.sampler.type == "stratified")
         proto = make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
                                         scene.sampler.jitter, seed);
     else
-        proto = make_sampler(scene.sampler.type, spp, fp.resolution, seed);
-    const int total_spp = scene.sampler.type == "stratified" ? proto->samples_per_pixel() : spp;
+        proto = make_sampler(scene.sampler.type, total_spp, fp.resolution, seed);
 
     int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
@@ -199,34 +204,80 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     const auto t0 = Clock::now();
     const double cpu0 = process_cpu_seconds();
     const int w = fp.width(), h = fp.height();
-    Progress progress(opt.progress, uint64_t(w) * h * uint64_t(total_spp));
+    int done = 0;  // samples per pixel in the film
+    if (opt.resume) {
+        if (opt.resume->spp < 0 || opt.resume->spp > total_spp)
+            throw Error(fmt::format("resume: {} samples per pixel done of {}", opt.resume->spp,
+                                    total_spp));
+        done = opt.resume->spp;
+    }
+    const int first_spp = done;  // this run's first pass always completes
+    Progress progress(opt.progress, uint64_t(w) * h * uint64_t(total_spp - done));
     std::atomic<bool> out_of_time{false};
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
 
     constexpr int kTile = 16;
+    static_assert(kPassAlign % SamplePacket::kSize == 0);
 
-    // Passes exist for the time budget: whole passes of 1, 2, 4, ... up to 64 samples per
-    // pixel, so that stopping early still leaves an image of evenly many samples. Without a
-    // budget one pass does everything, so that the samplers compute the per-pixel parts of
-    // each dimension once per pixel rather than once per pass.
-    int done = 0;
-    // Passes of 1, 2, 4, ... samples per pixel with a time budget (so that a short budget
-    // still ends on a completed pass), else of kMaxPassSpp; each pixel's samples are summed
-    // in index order within a pass and the passes merged in order, so the image depends on
-    // the pass schedule, which depends only on the sample count and whether there is a
-    // budget, never on timing or threads.
-    int pass_size = opt.time_budget > 0 ? 1 : std::min(total_spp, kMaxPassSpp);
+    // Each pass continues the film's sums (each pixel adds its samples in index order,
+    // whatever the passes), and a pixel's samples are traced in packets that start at
+    // multiples of the packet size; so the image does not depend on the passes, as long as
+    // their boundaries are multiples of kPassAlign. Without a budget or checkpoints, passes
+    // are of kMaxPassSpp (the samplers compute the per-pixel parts of each dimension once per
+    // pass). With a time budget or checkpoints they start at kPassAlign and double, each
+    // sized from the time the previous ones took to end within the budget and about at the
+    // next checkpoint; a time-budgeted render without checkpoints starts with a pass of 1 spp
+    // (it always completes: an image of no samples is no answer), so the image differs from
+    // the others only where its first packets' rays meet two surfaces at the same distance.
+    const bool paced = opt.time_budget > 0 || opt.checkpoint;
+    int pass_size = paced ? kPassAlign : kMaxPassSpp;
+    double seconds_per_spp = 0;  // of the passes so far (wall)
+    double last_checkpoint = 0;
+    auto stats_so_far = [&] {
+        RenderStats s = opt.resume ? *opt.resume : RenderStats{};
+        s.spp = done;
+        s.wall_seconds += elapsed();
+        s.cpu_seconds += process_cpu_seconds() - cpu0;
+        for (const ThreadState& t : states) {  // between passes: no thread writes them
+            s.camera_paths += t.paths;
+            s.rays += t.counters.rays;
+            s.nonfinite += t.nonfinite;
+        }
+        return s;
+    };
+    // The end of a pass that would end at `end`: a multiple of kPassAlign after `done`.
+    auto align_end = [&](int end) {
+        if (end >= total_spp) return total_spp;
+        const int a = end / kPassAlign * kPassAlign;
+        return a > done ? a : std::min(total_spp, (done / kPassAlign + 1) * kPassAlign);
+    };
     while (done < total_spp) {
-        int s0 = done, s1 = std::min(total_spp, done + pass_size);
-        std::vector<PixelSum> pass = film.make_buffer();
+        int s1 = done == 0 && opt.time_budget > 0 && !opt.checkpoint
+                     ? 1
+                     : align_end(std::min(total_spp, done + pass_size));
+        if (paced && seconds_per_spp > 0) {
+            // The pass may take at most the time left of the budget and about the checkpoint
+            // interval; none fits the budget: stop here rather than start a pass to drop.
+            double fit = kInfinity;
+            if (opt.time_budget > 0) fit = (opt.time_budget - elapsed()) / seconds_per_spp;
+            if (opt.checkpoint && opt.checkpoint_every > 0)
+                fit = std::min(fit, std::max(1.0, opt.checkpoint_every / seconds_per_spp));
+            const int shortest = align_end(done + 1);
+            if (opt.time_budget > 0 && fit < double(shortest - done)) {
+                stats.time_limited = true;
+                break;
+            }
+            if (fit < double(s1 - done)) s1 = align_end(done + std::max(1, int(fit)));
+        }
+        const int s0 = done;
+        const double pass_t0 = elapsed();
+        std::vector<PixelSum> pass = film.sums();
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range2d<int>(fp.y0, fp.y1, kTile, fp.x0, fp.x1, kTile),
                 [&](const tbb::blocked_range2d<int>& r) {
                     if (out_of_time.load(std::memory_order_relaxed)) return;
-                    // The first pass (1 spp) always completes: an image of no samples is
-                    // no answer, however short the budget.
-                    if (opt.time_budget > 0 && s0 > 0 && elapsed() > opt.time_budget) {
+                    if (opt.time_budget > 0 && s0 > first_spp && elapsed() > opt.time_budget) {
                         out_of_time = true;
                         return;
                     }
@@ -236,9 +287,12 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                         for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
                             const Vec2i pixel(x, y);
                             sampler.start_pixel(pixel, s0, s1);
-                            for (int sb = s0; sb < s1; sb += SamplePacket::kSize)
-                                render_packet(scene, film, ts, pixel, sb,
-                                              std::min(SamplePacket::kSize, s1 - sb), pass);
+                            for (int sb = s0; sb < s1;) {
+                                const int se =
+                                    std::min(s1, (sb / SamplePacket::kSize + 1) * SamplePacket::kSize);
+                                render_packet(scene, film, ts, pixel, sb, se - sb, pass);
+                                sb = se;
+                            }
                         }
                     progress.add(uint64_t(r.rows().size()) * r.cols().size() * (s1 - s0));
                 });
@@ -247,9 +301,18 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
             stats.time_limited = true;
             break;
         }
-        film.merge(pass);
+        film.set_sums(std::move(pass));
         done = s1;
+        seconds_per_spp = (elapsed() - pass_t0) / double(s1 - s0);
         pass_size = std::min(pass_size * 2, kMaxPassSpp);
+        const bool stopping = (opt.stop && opt.stop->load() && done < total_spp) ||
+                              (opt.time_budget > 0 && elapsed() > opt.time_budget &&
+                               done < total_spp);
+        if (opt.checkpoint &&
+            (stopping || done == total_spp || elapsed() - last_checkpoint >= opt.checkpoint_every)) {
+            opt.checkpoint(stats_so_far());
+            last_checkpoint = elapsed();
+        }
         if (opt.stop && opt.stop->load() && done < total_spp) {
             stats.interrupted = true;
             break;
@@ -261,14 +324,13 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     }
     progress.finish();
 
-    stats.wall_seconds = elapsed();
-    stats.cpu_seconds = process_cpu_seconds() - cpu0;
+    const RenderStats so_far = stats_so_far();
+    stats.wall_seconds = so_far.wall_seconds;
+    stats.cpu_seconds = so_far.cpu_seconds;
     stats.spp = done;
-    for (const ThreadState& s : states) {
-        stats.camera_paths += s.paths;
-        stats.rays += s.counters.rays;
-        stats.nonfinite += s.nonfinite;
-    }
+    stats.camera_paths = so_far.camera_paths;
+    stats.rays = so_far.rays;
+    stats.nonfinite = so_far.nonfinite;
     stats.peak_rss_bytes = peak_rss_bytes();
     return stats;
 }
