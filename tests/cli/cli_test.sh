@@ -313,6 +313,109 @@ else
   echo "SKIP: disk-full tests (cannot mount a tmpfs here)"
 fi
 
+# Checkpoint and resume. A render killed with SIGKILL at random moments and resumed each time
+# (from scratch when no checkpoint exists yet) ends with the image of an uninterrupted render,
+# bit for bit; so does a measurement.
+"$bin" render "$tmp/small.pbrt" -o "$tmp/ck-ref.pfm" --spp 20000 --quiet
+# Passes paced by a time budget or checkpoints leave the image as one pass would: each
+# pixel sums its samples in order whatever the passes.
+"$bin" render "$tmp/small.pbrt" -o "$tmp/ck-paced.pfm" --spp 20000 --time 1000 --quiet
+check "a time-budgeted render that completes equals the unbudgeted one" cmp -s "$tmp/ck-paced.pfm" "$tmp/ck-ref.pfm"
+kills=0
+resumes=0
+rm -f "$tmp/ck.ckpt" "$tmp/ck.pfm"
+for i in 1 2 3 4 5 6 7 8; do
+  if [ -e "$tmp/ck.ckpt" ]; then
+    "$bin" render --resume "$tmp/ck.ckpt" --quiet > /dev/null 2>&1 &
+    resumes=$((resumes + 1))
+  else
+    "$bin" render "$tmp/small.pbrt" -o "$tmp/ck.pfm" --spp 20000 --checkpoint "$tmp/ck.ckpt" \
+      --checkpoint-every 0 --quiet > /dev/null 2>&1 &
+  fi
+  pid=$!
+  sleep "0.$((RANDOM % 8 + 1))"
+  kill -KILL $pid 2> /dev/null && kills=$((kills + 1))
+  wait $pid 2> /dev/null
+done
+if [ -e "$tmp/ck.ckpt" ]; then
+  "$bin" render --resume "$tmp/ck.ckpt" --quiet > "$tmp/ck-final.txt" 2>&1
+else
+  "$bin" render "$tmp/small.pbrt" -o "$tmp/ck.pfm" --spp 20000 --checkpoint "$tmp/ck.ckpt" --quiet
+fi
+check "resume after SIGKILL exits 0" test $? -eq 0
+check "temporary files of killed writers are cleaned up" test -z "$(find "$tmp" -name '.ck.tmp-*')"
+check "the render was killed at least twice and resumed" test $kills -ge 2 -a $resumes -ge 1
+check "killed and resumed render is identical to an uninterrupted one" cmp -s "$tmp/ck.pfm" "$tmp/ck-ref.pfm"
+echo "  (checkpoint: $kills kills, $resumes resumes)"
+# A checkpoint is refused for another sample count, seed or scene, or when damaged.
+"$bin" render --resume "$tmp/ck.ckpt" --spp 100 --quiet > "$tmp/ck-spp.txt" 2>&1
+check "resume with another --spp is refused" test $? -ne 0
+check "resume with another --spp says why" grep -q "samples per pixel" "$tmp/ck-spp.txt"
+"$bin" render --resume "$tmp/ck.ckpt" --seed 3 --quiet > "$tmp/ck-seed.txt" 2>&1
+check "resume with another --seed is refused" grep -q "seed" "$tmp/ck-seed.txt"
+cp "$tmp/small.pbrt" "$tmp/small2.pbrt"
+echo 'Shape "sphere" "float radius" [ 0.1 ]' >> "$tmp/small2.pbrt"
+"$bin" render "$tmp/small2.pbrt" --resume "$tmp/ck.ckpt" --quiet > "$tmp/ck-scene.txt" 2>&1
+check "resume on a changed scene is refused" grep -q "changed" "$tmp/ck-scene.txt"
+head -c 300 "$tmp/ck.ckpt" > "$tmp/ck-cut.ckpt"
+"$bin" render --resume "$tmp/ck-cut.ckpt" --quiet > "$tmp/ck-cut.txt" 2>&1
+check "a truncated checkpoint is refused" grep -q "damaged or incomplete" "$tmp/ck-cut.txt"
+"$bin" render --resume "$tmp/small.pbrt" --quiet > "$tmp/ck-not.txt" 2>&1
+check "a file that is no checkpoint is refused" grep -q "not a steradian checkpoint" "$tmp/ck-not.txt"
+
+cat > "$tmp/room.pbrt" <<'SCENE'
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
+  Translate 0 0 2
+  Shape "sphere" "float radius" [ 0.3 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.7 0.7 0.7 ]
+Shape "trianglemesh" "point3 P" [ -3 -3 -0.01  3 -3 -0.01  3 3 -0.01  -3 3 -0.01 ]
+      "integer indices" [ 0 1 2  0 2 3 ]
+Shape "trianglemesh" "point3 P" [ -3 -3 3  -3 3 3  3 3 3  3 -3 3 ]
+      "integer indices" [ 0 1 2  0 2 3 ]
+Meter "illuminancegrid" "string name" "floor" "point3 corner" [ -1 -1 0 ] "vector3 u" [ 2 0 0 ]
+      "vector3 v" [ 0 2 0 ] "integer resolution" [ 4 4 ]
+SCENE
+"$bin" measure "$tmp/room.pbrt" --rel-error 0.001 --json "$tmp/mck-ref.json" --quiet > /dev/null
+mkills=0
+rm -f "$tmp/mck.ckpt"
+for i in 1 2 3 4 5 6; do
+  if [ -e "$tmp/mck.ckpt" ]; then
+    "$bin" measure --resume "$tmp/mck.ckpt" --quiet > /dev/null 2>&1 &
+  else
+    "$bin" measure "$tmp/room.pbrt" --rel-error 0.001 --json "$tmp/mck.json" \
+      --checkpoint "$tmp/mck.ckpt" --quiet > /dev/null 2>&1 &
+  fi
+  pid=$!
+  sleep "0.$((RANDOM % 5 + 3))"
+  kill -KILL $pid 2> /dev/null && mkills=$((mkills + 1))
+  wait $pid 2> /dev/null
+done
+if [ -e "$tmp/mck.ckpt" ]; then
+  "$bin" measure --resume "$tmp/mck.ckpt" --quiet > /dev/null
+else
+  "$bin" measure "$tmp/room.pbrt" --rel-error 0.001 --json "$tmp/mck.json" --quiet > /dev/null
+fi
+same_readings() {  # the readings of two JSON files, times aside
+  python3 -c '
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+for j in (a, b):
+    j.pop("wall_seconds"); j.pop("cpu_seconds")
+sys.exit(0 if a == b else 1)' "$1" "$2"
+}
+check "the measurement was killed at least twice" test $mkills -ge 2
+check "killed and resumed measurement gives the uninterrupted readings" same_readings "$tmp/mck.json" "$tmp/mck-ref.json"
+echo "  (measure checkpoint: $mkills kills)"
+"$bin" measure --resume "$tmp/mck.ckpt" --rel-error 0.01 --quiet > "$tmp/mck-rel.txt" 2>&1
+check "measure resume with another --rel-error is refused" grep -q "rel-error" "$tmp/mck-rel.txt"
+"$bin" render --resume "$tmp/mck.ckpt" --quiet > "$tmp/mck-kind.txt" 2>&1
+check "render refuses a measurement's checkpoint" grep -q "not a render" "$tmp/mck-kind.txt"
+
 # Two renders writing one path at once: the file is one of the two images, never a mix.
 "$bin" render "$tmp/small.pbrt" -o "$tmp/a.pfm" --spp 64 --seed 1 --quiet
 "$bin" render "$tmp/small.pbrt" -o "$tmp/b.pfm" --spp 64 --seed 2 --quiet

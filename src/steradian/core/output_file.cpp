@@ -1,11 +1,13 @@
 #include "steradian/core/output_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -45,11 +47,33 @@ void sync_file(const std::string& tmp, const std::string& path) {
         throw Error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
 }
 
+/// The temporary files of `path` that a writer killed mid-write (SIGKILL, power loss) left
+/// behind: ".<stem>.tmp-<pid>-<n><ext>" in its directory, of a process that no longer runs.
+void remove_stale_temporaries(const std::string& path) {
+    const fs::path p(path);
+    const std::string prefix = "." + p.stem().string() + ".tmp-";
+    std::error_code ec;
+    for (fs::directory_iterator it(directory_of(path), ec), end; !ec && it != end;
+         it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.rfind(prefix, 0) != 0) continue;
+        const char* digits = name.c_str() + prefix.size();
+        char* stop = nullptr;
+        const long pid = std::strtol(digits, &stop, 10);
+        if (stop == digits || *stop != '-' || pid <= 0) continue;
+        if (::kill(pid_t(pid), 0) != 0 && errno == ESRCH) {
+            std::error_code ignored;
+            fs::remove(it->path(), ignored);
+        }
+    }
+}
+
 }  // namespace
 
 void write_file_atomically(const std::string& path,
                            const std::function<void(const std::string& tmp_path)>& write) {
     make_directory(path);
+    remove_stale_temporaries(path);
     static std::atomic<unsigned> counter{0};
     const fs::path p(path);
     // Hidden, unique per process and call, same directory (rename is atomic only within one

@@ -2,7 +2,8 @@
 /// Output files that are never half-written: every output is written to a temporary file in
 /// the destination's directory, flushed to the disk and checked, then renamed into place, so
 /// a reader (or a second render writing the same path) sees the old file or the new one,
-/// never a mix, and a full disk is an error instead of a truncated file. Also the check of
+/// never a mix, and a full disk is an error instead of a truncated file (the temporary files a
+/// killed writer left are removed by the next write of the same path). Also the check of
 /// an output path before hours of rendering are spent on it.
 #include <functional>
 #include <string>

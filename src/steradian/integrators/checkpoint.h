@@ -27,7 +27,7 @@ namespace sr {
 
 class Checkpoint {
 public:
-    /// Sections, by name.
+    /// Sections, by name (a name is one line: no '\n').
     void set(const std::string& key, std::string value) { m_sections[key] = std::move(value); }
     void set_number(const std::string& key, double v);
     void set_number(const std::string& key, uint64_t v);
