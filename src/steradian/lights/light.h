@@ -1,6 +1,6 @@
 #pragma once
-/// Lights as a std::variant of plain structs (point, spot, distant, uniform infinite,
-/// diffuse area), each satisfying the LightLike concept. Radiometric values are spectral,
+/// Lights as a std::variant of plain structs (point, spot, distant, uniform and image
+/// infinite, diffuse area, goniometric), each satisfying the LightLike concept. Radiometric values are spectral,
 /// in the scene's radiance unit (docs/units.md); `scale` already includes pbrt-v4's
 /// photometric normalisation and any power/illuminance parameter.
 #include <concepts>
@@ -11,6 +11,7 @@
 #include "steradian/core/transform.h"
 #include "steradian/geometry/shapes.h"
 #include "steradian/lights/photometric/photometric.h"
+#include "steradian/sampling/distribution.h"
 #include "steradian/spectrum/spectrum.h"
 
 namespace sr {
@@ -89,6 +90,59 @@ struct UniformInfiniteLight {
     SampledSpectrum le(Vec3, const SampledWavelengths& lambda) const {
         return radiance.sample(lambda) * scale;
     }
+};
+
+/// An environment map in pbrt-v4's layout: a square RGB image in Clarberg's equal-area
+/// octahedral parameterisation (sampling/warp.h; every texel covers 4 pi / res^2 sr),
+/// looked up at the nearest texel as pbrt-v4's ImageInfiniteLight does, each texel's RGB an
+/// RGB illuminant spectrum (sigmoid-polynomial uplift times the sRGB illuminant, D65).
+struct EnvironmentMap {
+    int res = 0;
+    /// res * res texels, rows from the top of the image (v = 0).
+    std::vector<RgbUnboundedSpectrum> texels;
+    Spectrum illuminant;  ///< the colour space's white (D65), densely sampled
+    /// Texel channel averages over [0,1]^2 (pbrt-v4's sampling distribution), and the same
+    /// less their mean, clamped at 0: sampled where the map is brighter than average, for
+    /// light samples combined by MIS with BSDF samples (pbrt-v4's "compensated" density,
+    /// after Karlik et al. 2019), which find the dimmer rest.
+    Distribution2D distribution, compensated;
+    /// Average over texels of the texels' luminance (Y of linear sRGB) and of Y cos(theta)
+    /// over the light's upper hemisphere (z > 0) times 4 pi: the map's illuminance on an
+    /// upward patch in its own frame, per unit of scale.
+    Float mean_y = 0, upper_illuminance = 0;
+
+    /// The radiance of the texel at (u, v), before the light's scale.
+    SampledSpectrum le(Point2 uv, const SampledWavelengths& lambda) const;
+};
+
+/// An environment map from linear RGB pixels (rows from the top): a square image is taken
+/// as pbrt-v4's equal-area map; a 2:1 image as a latitude-longitude map (u = phi / 2 pi,
+/// v = theta / pi, theta from +z, phi = atan2(y, x), as pbrt-v4's `imgtool makeequiarea`
+/// reads it), resampled to an equal-area map as wide as the image (each texel the average
+/// of 4x4 bilinear lookups spread over it). Throws sr::Error for other shapes, non-finite
+/// pixels or a size beyond the image limits.
+std::shared_ptr<const EnvironmentMap> make_environment_map(const std::vector<float>& rgb,
+                                                           int width, int height);
+
+/// Radiance from every direction given by an environment map, rotated by the light's
+/// transformation (pbrt-v4's "infinite" light with "filename").
+struct ImageInfiniteLight {
+    std::shared_ptr<const EnvironmentMap> map;
+    Transform light_from_world;  ///< directions only
+    Transform world_from_light;
+    Float scale = 1;
+    Point3 scene_center;
+    Float scene_radius = 1;
+    /// allow_incomplete_pdf: sample the compensated density (only when the caller combines
+    /// the light sample with a BSDF sample by MIS, which covers the rest), as pbrt-v4.
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
+                                           const SampledWavelengths& lambda,
+                                           bool allow_incomplete_pdf = false) const;
+    Float pdf_li(const LightSampleContext& ctx, Vec3 w, bool allow_incomplete_pdf = false) const;
+    Float phi_y() const;
+    bool is_delta() const { return false; }
+    /// Radiance arriving along a ray that escapes in world direction dir.
+    SampledSpectrum le(Vec3 dir, const SampledWavelengths& lambda) const;
 };
 
 /// A luminous intensity distribution from a photometric file (IES LM-63 or EULUMDAT)
@@ -202,13 +256,22 @@ concept LightLike = requires(const L& l, const LightSampleContext& c, Point2 u,
 };
 
 using Light = std::variant<PointLight, SpotLight, DistantLight, UniformInfiniteLight,
-                           DiffuseAreaLight, GoniometricLight>;
+                           DiffuseAreaLight, GoniometricLight, ImageInfiniteLight>;
 static_assert(LightLike<PointLight> && LightLike<SpotLight> && LightLike<DistantLight> &&
               LightLike<UniformInfiniteLight> && LightLike<DiffuseAreaLight> &&
-              LightLike<GoniometricLight>);
+              LightLike<GoniometricLight> && LightLike<ImageInfiniteLight>);
 
+/// A light sample; allow_incomplete_pdf as for ImageInfiniteLight (other lights ignore it).
 std::optional<LightLiSample> sample_li(const Light& light, const LightSampleContext& ctx,
-                                       Point2 u, const SampledWavelengths& lambda);
+                                       Point2 u, const SampledWavelengths& lambda,
+                                       bool allow_incomplete_pdf = false);
+
+/// Radiance at infinity along an escaping ray, and the solid-angle density of sample_li()
+/// choosing that direction, for the lights with radiance at infinity (Scene::infinite_lights);
+/// zero for the others.
+SampledSpectrum infinite_le(const Light& light, Vec3 dir, const SampledWavelengths& lambda);
+Float infinite_pdf_li(const Light& light, const LightSampleContext& ctx, Vec3 dir,
+                      bool allow_incomplete_pdf);
 Float light_phi_y(const Light& light);
 
 }  // namespace sr

@@ -133,12 +133,15 @@ private:
     void escaped(const Ray& ray) {
         if (!counted()) return;
         for (int li : m_scene.infinite_lights) {
-            const auto& inf = std::get<UniformInfiniteLight>(m_scene.lights[li]);
+            const Light& inf = m_scene.lights[li];
+            // The density of the light sample this direction could have been: the
+            // compensated one of an image light, as sample_light draws it.
             Float p_l = (m_depth == 0 || m_specular_bounce || !m_use_nee)
                             ? 0
-                            : m_scene.light_sampler.pmf(li) * inf.pdf_li(m_prev_ctx, ray.d);
+                            : m_scene.light_sampler.pmf(li) *
+                                  infinite_pdf_li(inf, m_prev_ctx, ray.d, m_use_bsdf_hits);
             Float w = hit_weight(p_l);
-            if (w > 0) L += m_beta * inf.le(ray.d, m_lambda) * w;
+            if (w > 0) L += m_beta * infinite_le(inf, ray.d, m_lambda) * w;
         }
     }
 
@@ -164,7 +167,9 @@ private:
         Float pmf;
         int li = m_scene.light_sampler.sample(u_light, pmf);
         if (li < 0 || pmf <= 0) return;
-        auto ls = sample_li(m_scene.lights[li], ctx, u2, m_lambda);
+        // An image light may sample only where it is brighter than average when BSDF
+        // samples, combined by MIS, cover the rest (pbrt-v4's allowIncompletePDF).
+        auto ls = sample_li(m_scene.lights[li], ctx, u2, m_lambda, m_use_bsdf_hits);
         if (!ls || ls->pdf_sa <= 0 || ls->L.is_zero()) return;
         Bsdf::Eval ev = bsdf.evaluate(hit.wo, ls->wi);
         SampledSpectrum f = ev.f * ev.abs_cos;

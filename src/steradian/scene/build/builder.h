@@ -60,6 +60,10 @@ class Builder {
 
     // ---- textures (textures.cpp) -------------------------------------------------------
     std::shared_ptr<const TextureImage> load_image(const TextureDesc& t, const ParamSet& ps);
+    /// The environment map of an image "infinite" light (errors located at `loc`).
+    std::shared_ptr<const EnvironmentMap> environment_map(const std::string& path,
+                                                          const SourceLoc& loc,
+                                                          const std::string& what);
     UvMapping read_mapping(const TextureDesc& t, const ParamSet& ps);
     void build_textures();
     static void check_checkerboard_dimension(const TextureDesc& t, const ParamSet& ps);

@@ -1,0 +1,190 @@
+/// Image-based infinite lights: the environment map (equal-area octahedral, or a lat-long
+/// image resampled to one) and the light that rotates it into the scene.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "steradian/core/error.h"
+#include "steradian/lights/light.h"
+#include "steradian/sampling/warp.h"
+
+namespace sr {
+
+namespace {
+
+/// Texels of an environment map at most (as film pixels and image textures).
+constexpr int64_t kMaxEnvironmentTexels = int64_t(1) << 26;
+
+/// Luminance of linear sRGB (IEC 61966-2-1: the Y row of the RGB -> XYZ matrix).
+Float luminance(const float* rgb) {
+    return Float(0.2126) * rgb[0] + Float(0.7152) * rgb[1] + Float(0.0722) * rgb[2];
+}
+
+/// Bilinear lookup of a lat-long image at (s, t) in [0,1]^2, pixel centres at
+/// (i + 0.5) / width: wrapping around in s (longitude), clamped in t (latitude).
+void bilerp_latlong(const std::vector<float>& rgb, int w, int h, Float s, Float t, float out[3]) {
+    const Float x = s * Float(w) - Float(0.5), y = t * Float(h) - Float(0.5);
+    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    const Float fx = x - Float(x0), fy = y - Float(y0);
+    auto px = [&](int i, int j) {
+        i = ((i % w) + w) % w;
+        j = std::clamp(j, 0, h - 1);
+        return &rgb[(size_t(j) * size_t(w) + size_t(i)) * 3];
+    };
+    const float *a = px(x0, y0), *b = px(x0 + 1, y0), *c = px(x0, y0 + 1), *d = px(x0 + 1, y0 + 1);
+    for (int k = 0; k < 3; ++k)
+        out[k] = float((1 - fx) * (1 - fy) * a[k] + fx * (1 - fy) * b[k] + (1 - fx) * fy * c[k] +
+                       fx * fy * d[k]);
+}
+
+/// The equal-area square of a lat-long image: res = its width; each texel the average of
+/// 4x4 bilinear lookups at the centres of its sub-squares (a box filter over the texel).
+std::vector<float> latlong_to_equal_area(const std::vector<float>& rgb, int w, int h, int res) {
+    std::vector<float> out(size_t(res) * size_t(res) * 3, 0.f);
+    constexpr int kSub = 4;
+    for (int y = 0; y < res; ++y)
+        for (int x = 0; x < res; ++x) {
+            double sum[3] = {0, 0, 0};
+            for (int j = 0; j < kSub; ++j)
+                for (int i = 0; i < kSub; ++i) {
+                    const Point2 p((Float(x) + (Float(i) + Float(0.5)) / kSub) / Float(res),
+                                   (Float(y) + (Float(j) + Float(0.5)) / kSub) / Float(res));
+                    const Vec3 d = equal_area_square_to_sphere(p);
+                    const Float theta = std::acos(std::clamp(d.z, Float(-1), Float(1)));
+                    Float phi = std::atan2(d.y, d.x);
+                    if (phi < 0) phi += 2 * kPi;
+                    float v[3];
+                    bilerp_latlong(rgb, w, h, phi / (2 * kPi), theta / kPi, v);
+                    for (int k = 0; k < 3; ++k) sum[k] += v[k];
+                }
+            for (int k = 0; k < 3; ++k)
+                out[(size_t(y) * size_t(res) + size_t(x)) * 3 + size_t(k)] =
+                    float(sum[k] / (kSub * kSub));
+        }
+    return out;
+}
+
+}  // namespace
+
+std::shared_ptr<const EnvironmentMap> make_environment_map(const std::vector<float>& rgb_in,
+                                                           int width, int height) {
+    if (width <= 0 || height <= 0 || rgb_in.size() != size_t(width) * size_t(height) * 3)
+        throw Error(fmt::format("an environment map needs RGB pixels ({} x {}, {} values)",
+                                width, height, rgb_in.size()));
+    for (float v : rgb_in)
+        if (!std::isfinite(v))
+            throw Error("the environment map has NaN or infinite pixel values");
+    std::vector<float> rgb;
+    int res = 0;
+    if (width == height) {
+        res = width;
+        rgb = rgb_in;
+    } else if (width == 2 * height) {
+        res = width;
+        if (int64_t(res) * res > kMaxEnvironmentTexels)
+            throw Error(fmt::format("a {} x {} lat-long map makes an equal-area map of {} x {} "
+                                    "texels, more than the limit of {}",
+                                    width, height, res, res, kMaxEnvironmentTexels));
+        rgb = latlong_to_equal_area(rgb_in, width, height, res);
+    } else {
+        throw Error(fmt::format("the environment map is {} x {}: neither square (pbrt-v4's "
+                                "equal-area layout) nor 2:1 (latitude-longitude)",
+                                width, height));
+    }
+    if (int64_t(res) * res > kMaxEnvironmentTexels)
+        throw Error(fmt::format("the environment map has {} x {} texels, more than the limit "
+                                "of {}", res, res, kMaxEnvironmentTexels));
+
+    auto map = std::make_shared<EnvironmentMap>();
+    map->res = res;
+    map->illuminant = Spectrum(srgb_illuminant());
+    const size_t n = size_t(res) * size_t(res);
+    map->texels.resize(n);
+    build_rgb_uplift_table();
+    std::vector<Float> d(n);
+    double sum_y = 0, upper = 0, sum_d = 0;
+    for (size_t i = 0; i < n; ++i) {
+        float* p = &rgb[i * 3];
+        for (int k = 0; k < 3; ++k) p[k] = std::max(p[k], 0.f);  // pbrt-v4 clamps at zero
+        map->texels[i] = rgb_unbounded_spectrum_interpolated(Rgb{p[0], p[1], p[2]});
+        d[i] = (p[0] + p[1] + p[2]) / 3;
+        sum_d += d[i];
+        const Float y = luminance(p);
+        sum_y += y;
+        const int tx = int(i % size_t(res)), ty = int(i / size_t(res));
+        const Vec3 w = equal_area_square_to_sphere(
+            Point2((Float(tx) + Float(0.5)) / Float(res), (Float(ty) + Float(0.5)) / Float(res)));
+        if (w.z > 0) upper += double(y) * w.z;
+    }
+    map->mean_y = Float(sum_y / double(n));
+    // Each texel covers 4 pi / n steradians.
+    map->upper_illuminance = Float(upper * 4 * kPi / double(n));
+    map->distribution = Distribution2D(d, res, res);
+    const double mean = sum_d / double(n);
+    bool any = false;
+    for (Float& v : d) {
+        v = std::max(Float(0), Float(double(v) - mean));
+        any = any || v > 0;
+    }
+    if (!any) std::fill(d.begin(), d.end(), Float(1));
+    map->compensated = Distribution2D(d, res, res);
+    return map;
+}
+
+SampledSpectrum EnvironmentMap::le(Point2 uv, const SampledWavelengths& lambda) const {
+    const int tx = std::clamp(int(uv.x * Float(res)), 0, res - 1);
+    const int ty = std::clamp(int(uv.y * Float(res)), 0, res - 1);
+    const RgbUnboundedSpectrum& t = texels[size_t(ty) * size_t(res) + size_t(tx)];
+    // The texel's scale * S(c0 l^2 + c1 l + c2) (spectrum/sigmoid.h) at the four wavelengths
+    // at once, times the illuminant; |x| is clamped where S is 0 or 1 to float precision.
+    const Float4 zero{};
+    Float4 l;
+    for (int i = 0; i < kSpectrumSamples; ++i) l[i] = lambda.lambda[i];
+    Float4 x = (zero + t.c0) * l + t.c1;
+    x = x * l + t.c2;
+    const Float4 lim = zero + Float(1e18);
+    x = x < -lim ? -lim : x;
+    x = x > lim ? lim : x;
+    Float4 q = Float(1) + x * x;
+    for (int i = 0; i < kSpectrumSamples; ++i) q[i] = std::sqrt(q[i]);
+    const Float4 sig = Float(0.5) + x / (Float(2) * q);
+    return SampledSpectrum(sig * t.scale) * illuminant.sample(lambda);
+}
+
+SampledSpectrum ImageInfiniteLight::le(Vec3 dir, const SampledWavelengths& lambda) const {
+    const Vec3 w = normalize(light_from_world.vector(dir));
+    return map->le(equal_area_sphere_to_square(w), lambda) * scale;
+}
+
+std::optional<LightLiSample> ImageInfiniteLight::sample_li(const LightSampleContext& ctx,
+                                                           Point2 u,
+                                                           const SampledWavelengths& lambda,
+                                                           bool allow_incomplete_pdf) const {
+    Float map_pdf = 0;
+    const Point2 uv = allow_incomplete_pdf ? map->compensated.sample(u, &map_pdf)
+                                           : map->distribution.sample(u, &map_pdf);
+    if (!(map_pdf > 0)) return std::nullopt;
+    LightLiSample s;
+    s.wi = normalize(world_from_light.vector(equal_area_square_to_sphere(uv)));
+    s.pdf_sa = map_pdf / (4 * kPi);
+    s.L = map->le(uv, lambda) * scale;
+    s.p_light = ctx.p + s.wi * (2 * scene_radius);
+    s.at_infinity = true;
+    return s;
+}
+
+Float ImageInfiniteLight::pdf_li(const LightSampleContext&, Vec3 w,
+                                 bool allow_incomplete_pdf) const {
+    const Point2 uv = equal_area_sphere_to_square(normalize(light_from_world.vector(w)));
+    const Float p = allow_incomplete_pdf ? map->compensated.pdf(uv) : map->distribution.pdf(uv);
+    return p / (4 * kPi);
+}
+
+Float ImageInfiniteLight::phi_y() const {
+    // As the uniform light: radiance over the sphere of directions, through a disk of the
+    // scene's radius (pbrt-v4's Phi), with the map's mean luminance.
+    return 4 * kPi * kPi * sqr(scene_radius) * scale * map->mean_y *
+           spectrum_to_photometric(map->illuminant);
+}
+
+}  // namespace sr
