@@ -151,9 +151,13 @@ SampledSpectrum EnvironmentMap::le(Point2 uv, const SampledWavelengths& lambda) 
     return SampledSpectrum(sig * t.scale) * illuminant.sample(lambda);
 }
 
-SampledSpectrum ImageInfiniteLight::le(Vec3 dir, const SampledWavelengths& lambda) const {
-    const Vec3 w = normalize(light_from_world.vector(dir));
-    return map->le(equal_area_sphere_to_square(w), lambda) * scale;
+SampledSpectrum ImageInfiniteLight::le(Vec3 dir, const SampledWavelengths& lambda, Float* pdf,
+                                       bool allow_incomplete_pdf) const {
+    const Point2 uv = equal_area_sphere_to_square(normalize(light_from_world.vector(dir)));
+    if (pdf)
+        *pdf = (allow_incomplete_pdf ? map->compensated.pdf(uv) : map->distribution.pdf(uv)) /
+               (4 * kPi);
+    return map->le(uv, lambda) * scale;
 }
 
 std::optional<LightLiSample> ImageInfiniteLight::sample_li(const LightSampleContext& ctx,

@@ -185,18 +185,16 @@ std::optional<LightLiSample> sample_li(const Light& light, const LightSampleCont
     return std::visit([&](const auto& l) { return l.sample_li(ctx, u, lambda); }, light);
 }
 
-SampledSpectrum infinite_le(const Light& light, Vec3 dir, const SampledWavelengths& lambda) {
-    if (const auto* im = std::get_if<ImageInfiniteLight>(&light)) return im->le(dir, lambda);
-    if (const auto* un = std::get_if<UniformInfiniteLight>(&light)) return un->le(dir, lambda);
-    return SampledSpectrum(0);
-}
-
-Float infinite_pdf_li(const Light& light, const LightSampleContext& ctx, Vec3 dir,
-                      bool allow_incomplete_pdf) {
+SampledSpectrum infinite_le(const Light& light, Vec3 dir, const SampledWavelengths& lambda,
+                            Float* pdf, bool allow_incomplete_pdf) {
     if (const auto* im = std::get_if<ImageInfiniteLight>(&light))
-        return im->pdf_li(ctx, dir, allow_incomplete_pdf);
-    if (const auto* un = std::get_if<UniformInfiniteLight>(&light)) return un->pdf_li(ctx, dir);
-    return 0;
+        return im->le(dir, lambda, pdf, allow_incomplete_pdf);
+    if (const auto* un = std::get_if<UniformInfiniteLight>(&light)) {
+        if (pdf) *pdf = un->pdf_li({}, dir);
+        return un->le(dir, lambda);
+    }
+    if (pdf) *pdf = 0;
+    return SampledSpectrum(0);
 }
 
 Float light_phi_y(const Light& light) {

@@ -141,8 +141,10 @@ struct ImageInfiniteLight {
     Float pdf_li(const LightSampleContext& ctx, Vec3 w, bool allow_incomplete_pdf = false) const;
     Float phi_y() const;
     bool is_delta() const { return false; }
-    /// Radiance arriving along a ray that escapes in world direction dir.
-    SampledSpectrum le(Vec3 dir, const SampledWavelengths& lambda) const;
+    /// Radiance arriving along a ray that escapes in world direction dir; with `pdf`, also
+    /// pdf_li(dir, allow_incomplete_pdf) (one mapping of the direction for both).
+    SampledSpectrum le(Vec3 dir, const SampledWavelengths& lambda, Float* pdf = nullptr,
+                       bool allow_incomplete_pdf = false) const;
 };
 
 /// A luminous intensity distribution from a photometric file (IES LM-63 or EULUMDAT)
@@ -266,12 +268,11 @@ std::optional<LightLiSample> sample_li(const Light& light, const LightSampleCont
                                        Point2 u, const SampledWavelengths& lambda,
                                        bool allow_incomplete_pdf = false);
 
-/// Radiance at infinity along an escaping ray, and the solid-angle density of sample_li()
-/// choosing that direction, for the lights with radiance at infinity (Scene::infinite_lights);
-/// zero for the others.
-SampledSpectrum infinite_le(const Light& light, Vec3 dir, const SampledWavelengths& lambda);
-Float infinite_pdf_li(const Light& light, const LightSampleContext& ctx, Vec3 dir,
-                      bool allow_incomplete_pdf);
+/// Radiance at infinity along an escaping ray for the lights with radiance at infinity
+/// (Scene::infinite_lights), zero for the others; with `pdf`, also the solid-angle density
+/// of sample_li(..., allow_incomplete_pdf) choosing that direction.
+SampledSpectrum infinite_le(const Light& light, Vec3 dir, const SampledWavelengths& lambda,
+                            Float* pdf = nullptr, bool allow_incomplete_pdf = false);
 Float light_phi_y(const Light& light);
 
 }  // namespace sr

@@ -45,14 +45,26 @@ Distribution1D::Distribution1D(std::span<const Float> f, Float min, Float max)
     }
     m_cdf[n] = 1;
     if (m_uniform) m_integral = 0;
+    m_guide.resize(n);
+    int i = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const Float u = Float(double(k) / double(n));
+        while (i + 1 < int(n) && m_cdf[std::size_t(i) + 1] <= u) ++i;
+        m_guide[k] = i;
+    }
 }
 
 int Distribution1D::find_bin(Float u) const {
     // Largest i in [0, n-1] with cdf[i] <= u; bins of zero width are skipped because the
-    // next cdf entry is equal and also <= u.
-    auto it = std::upper_bound(m_cdf.begin(), m_cdf.end(), u);
-    auto i = int(it - m_cdf.begin()) - 1;
-    return clamp(i, 0, int(m_func.size()) - 1);
+    // next cdf entry is equal and also <= u. From the guide table's bin for u's 1/n-th.
+    const int n = int(m_func.size());
+    if (!(u >= 0)) return u < 0 ? 0 : n - 1;  // (NaN: as a binary search would end)
+    const int k = std::min(int(u * Float(n)), n - 1);
+    int i = m_guide[std::size_t(k)];
+    // The guide's u = k / n may round up past u in float: step back then.
+    while (i > 0 && m_cdf[std::size_t(i)] > u) --i;
+    while (i + 1 < n && m_cdf[std::size_t(i) + 1] <= u) ++i;
+    return i;
 }
 
 Float Distribution1D::sample_continuous(Float u, Float* pdf_out, int* offset) const {

@@ -50,6 +50,10 @@ class Distribution1D {
 
     std::vector<Float> m_func;
     std::vector<Float> m_cdf;  // n + 1 entries, m_cdf[0] = 0, m_cdf[n] = 1
+    /// Guide table (the cutpoint method, Chen and Asau 1974): m_guide[k] is the bin of
+    /// u = k / n, from which the bin of any u in [k / n, (k + 1) / n) is a short scan away
+    /// (the same bin a binary search finds, in O(1) expected steps).
+    std::vector<int> m_guide;
     Float m_min = 0, m_max = 1;
     Float m_integral = 0;
     double m_sum = 0;  // sum of m_func

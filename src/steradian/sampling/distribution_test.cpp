@@ -107,6 +107,37 @@ TEST(Distribution1D, ContinuousSamplingOnRange) {
     EXPECT_EQ(d.pdf(hi + 1), 0);
 }
 
+// The bin chosen for u is the CDF's inverse: the largest bin whose CDF value (a prefix sum
+// in double, rounded to float) is <= u, zero-width bins skipped, found here by a linear scan
+// and there through the guide table.
+TEST(Distribution1D, ChosenBinIsTheInverseCdf) {
+    Pcg32 rng(11);
+    for (int n : {1, 2, 7, 64, 1000}) {
+        std::vector<Float> f(static_cast<size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            const Float r = rng.next_float();
+            f[size_t(i)] = r < 0.3f ? 0 : r < 0.35f ? 1000 * r : r;  // zeros and spikes
+        }
+        Distribution1D d(f);
+        std::vector<Float> cdf(size_t(n) + 1, 0);
+        double sum = 0;
+        for (Float v : f) sum += double(v);
+        double acc = 0;
+        for (int i = 0; i < n; ++i)  // (all zero: uniform, as documented)
+            cdf[size_t(i) + 1] =
+                sum > 0 ? Float((acc += double(f[size_t(i)])) / sum) : Float(double(i + 1) / n);
+        cdf[size_t(n)] = 1;
+        for (int k = 0; k < 20000; ++k) {
+            // Every multiple of 1/n (the guide's cut points) and random u.
+            const Float u = k <= n ? Float(double(k) / n) * 0.999999f : rng.next_float();
+            int expect = 0;
+            for (int i = 0; i < n; ++i)
+                if (cdf[size_t(i)] <= u) expect = i;
+            ASSERT_EQ(d.sample_discrete(u), expect) << "n " << n << " u " << u;
+        }
+    }
+}
+
 TEST(Distribution1D, InvertRoundTrip) {
     std::vector<Float> w = test_weights();
     Distribution1D d(w, 1, 3);

@@ -133,15 +133,14 @@ private:
     void escaped(const Ray& ray) {
         if (!counted()) return;
         for (int li : m_scene.infinite_lights) {
-            const Light& inf = m_scene.lights[li];
-            // The density of the light sample this direction could have been: the
-            // compensated one of an image light, as sample_light draws it.
-            Float p_l = (m_depth == 0 || m_specular_bounce || !m_use_nee)
-                            ? 0
-                            : m_scene.light_sampler.pmf(li) *
-                                  infinite_pdf_li(inf, m_prev_ctx, ray.d, m_use_bsdf_hits);
-            Float w = hit_weight(p_l);
-            if (w > 0) L += m_beta * infinite_le(inf, ray.d, m_lambda) * w;
+            // With the density of the light sample this direction could have been (the
+            // compensated one of an image light, as sample_light draws it).
+            const bool mis = !(m_depth == 0 || m_specular_bounce || !m_use_nee);
+            Float pdf = 0;
+            const SampledSpectrum le = infinite_le(m_scene.lights[li], ray.d, m_lambda,
+                                                   mis ? &pdf : nullptr, m_use_bsdf_hits);
+            Float w = hit_weight(mis ? m_scene.light_sampler.pmf(li) * pdf : 0);
+            if (w > 0) L += m_beta * le * w;
         }
     }
 
