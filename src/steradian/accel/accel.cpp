@@ -14,6 +14,7 @@ namespace {
 struct UserShape {
     const Sphere* sphere = nullptr;
     const Disk* disk = nullptr;
+    const AlphaMask* alpha = nullptr;  ///< disks only
     unsigned geom_id = 0;
 };
 
@@ -62,8 +63,33 @@ bool user_hit(const UserShape& us, Point3 o, Vec3 d, Float tnear, Float tfar, Fl
     bool hit = us.sphere ? us.sphere->intersect_object(oo, od, tfar, th, ph)
                          : us.disk->intersect_object(oo, od, tfar, th, ph);
     if (!hit || th <= tnear) return false;
+    if (us.alpha) {  // a disk's cut-out: a ray that passes meets nothing else of it
+        SurfaceHit h;
+        Point3 p_obj = oo + od * th;
+        p_obj.z = us.disk->height;
+        us.disk->fill_hit(p_obj, h);
+        if (!alpha_stops(*us.alpha, h, o, d)) return false;
+    }
     t = th;
     return true;
+}
+
+/// Embree's intersection and occlusion filter of a triangle mesh with alpha: rejects the
+/// hits the rays pass through (Embree then goes on to the next hit).
+void mesh_alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* e = static_cast<const ShapeEntry*>(args->geometryUserPtr);
+    const TriangleMesh& mesh = std::get<TriangleMesh>(e->geometry);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        SurfaceHit h;
+        mesh.fill_hit(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                      RTCHitN_v(args->hit, args->N, i), h);
+        const Point3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                       RTCRayN_org_z(args->ray, args->N, i));
+        const Vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_dir_z(args->ray, args->N, i));
+        if (!alpha_stops(*e->alpha, h, o, d)) args->valid[i] = 0;
+    }
 }
 
 void user_intersect(const RTCIntersectFunctionNArguments* args) {
@@ -160,10 +186,16 @@ struct Accel::Impl {
             rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                        mesh->indices->data(), 0, 3 * sizeof(uint32_t),
                                        mesh->num_triangles());
+            if (e.alpha) {
+                rtcSetGeometryUserData(g, const_cast<ShapeEntry*>(&e));
+                rtcSetGeometryIntersectFilterFunction(g, mesh_alpha_filter);
+                rtcSetGeometryOccludedFilterFunction(g, mesh_alpha_filter);
+            }
         } else {
             auto us = std::make_unique<UserShape>();
             us->sphere = std::get_if<Sphere>(&e.geometry);
             us->disk = std::get_if<Disk>(&e.geometry);
+            if (us->disk) us->alpha = e.alpha.get();
             g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
             rtcSetGeometryUserData(g, us.get());

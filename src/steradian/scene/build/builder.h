@@ -102,6 +102,7 @@ class Builder {
                            std::vector<Point2> uv, std::vector<int> idx);
     std::optional<ShapeGeometry> make_geometry(const ShapeDesc& s);
     void check_alpha(const ShapeDesc& s);
+    std::shared_ptr<const AlphaMask> alpha_mask(const ShapeDesc& s);
     ShapeGeometry make_bilinear(const ShapeDesc& s);
     void add_shape(const ShapeDesc& s, Prototype* proto);
     void build_instances();

@@ -113,10 +113,34 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
 }
 
 void Builder::check_alpha(const ShapeDesc& s) {
+    // Read (so marked used) here; the mask is made by add_shape (alpha_mask()).
     if (const Param* a = s.params.find("alpha")) {
         if (a->type == ParamType::Float && a->numbers.size() == 1 && a->numbers[0] == 1) return;
-        throw_error(a->loc, "\"alpha\" cut-outs are not supported yet");
+        if (s.type == "sphere")
+            throw_error(a->loc, "\"alpha\" cut-outs of spheres are not supported yet (triangle "
+                                "meshes, bilinear meshes, PLY meshes and disks have them)");
     }
+}
+
+namespace {
+
+/// A shape's "alpha" float texture as the acceleration structure's cut-out mask.
+struct TextureAlphaMask final : AlphaMask {
+    std::shared_ptr<const FloatTexture> texture;
+    Float alpha(const SurfaceHit& hit) const override { return evaluate(*texture, hit); }
+};
+
+}  // namespace
+
+std::shared_ptr<const AlphaMask> Builder::alpha_mask(const ShapeDesc& s) {
+    const Param* a = s.params.find("alpha");
+    if (!a || (a->type == ParamType::Float && a->numbers.size() == 1 && a->numbers[0] == 1))
+        return nullptr;  // opaque, as pbrt-v4 makes an alpha of constant 1
+    if (a->type == ParamType::Float && (a->numbers.size() != 1 || !std::isfinite(a->numbers[0])))
+        throw_error(a->loc, "\"alpha\" takes one number or a float texture");
+    auto mask = std::make_shared<TextureAlphaMask>();
+    mask->texture = float_tex_arg(s.params, "alpha", 1);
+    return mask;
 }
 
 ShapeGeometry Builder::make_bilinear(const ShapeDesc& s) {
@@ -207,7 +231,11 @@ void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
     ShapeEntry e;
     e.geometry = std::move(*geom);
     e.material = resolve_material(s.material);
+    e.alpha = alpha_mask(s);
     int index = int(m_s.shapes.size());
+    if (s.area_light >= 0 && e.alpha)
+        throw_error(s.params.find("alpha")->loc,
+                    "\"alpha\" on an emitting shape (area light) is not supported yet");
     if (s.area_light >= 0) {
         if (proto)
             throw_error(s.loc, "area lights are not supported inside ObjectBegin (as in pbrt-v4)");
