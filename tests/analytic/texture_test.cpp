@@ -83,6 +83,34 @@ Material "diffuse" "texture reflectance" "checks"
         }
 }
 
+// pbrt-v4's "planar" mapping: s = p . v1 + udelta, t = p . v2 + vdelta with p in the
+// texture's space (the CTM at the Texture directive). On the lit square [-1, 1]^2 (world x
+// along raster x, y up) with the default v1 = x, v2 = y, unit checks make the quadrants
+// alternate: floor(x) + floor(y) is even in the top right and bottom left; a texture defined
+// after "Translate 1 0 0" sees x - 1, which swaps them.
+TEST(Texture, PlanarMappingFollowsTheTexturesSpace) {
+    for (int shifted = 0; shifted < 2; ++shifted) {
+        std::string scene = lit_plane_scene(std::string(shifted ? "AttributeBegin\nTranslate 1 0 0\n" : "") + R"(
+Texture "checks" "spectrum" "checkerboard" "string mapping" "planar"
+    "spectrum tex1" [ 300 0.4 900 0.4 ] "spectrum tex2" [ 300 0.3 900 0.3 ]
+)" + (shifted ? "AttributeEnd\n" : "") + R"(
+Material "diffuse" "texture reflectance" "checks"
+)", 64);
+        Rendered r = render_string(scene);
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+                // Block i = 1 is x in (0, 1), row j = 0 is y in (0, 1): floor(x) + floor(y)
+                // = (i - 1) - j (one less with the shift).
+                const bool even = (i - j + 1 + shifted) % 2 == 0;
+                const double expected = even ? 0.4 : 0.3;
+                int x0 = i == 0 ? 2 : 10, y0 = j == 0 ? 2 : 10;
+                MeanSe m = mean_se(region(r, x0, y0, x0 + 4, y0 + 4, 3));
+                EXPECT_NEAR(m.mean, expected, 4.5 * m.se + 1e-3)
+                    << "square " << i << "," << j << " shifted " << shifted;
+            }
+    }
+}
+
 TEST(Texture, CompositeTextureErrors) {
     auto err = [](const std::string& tex) {
         try {
@@ -97,6 +125,13 @@ TEST(Texture, CompositeTextureErrors) {
     EXPECT_NE(err("Texture \"c\" \"spectrum\" \"mix\" \"texture tex1\" \"nope\"\n").find("unknown spectrum texture"),
               std::string::npos);
     EXPECT_NE(err("Texture \"c\" \"float\" \"scale\" \"float bogus\" 1\n").find("bogus"), std::string::npos);
+    EXPECT_NE(err("Texture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"conical\"\n")
+                  .find("unknown texture mapping \"conical\""),
+              std::string::npos);
+    // uscale belongs to the "uv" mapping only, as in pbrt-v4: unused elsewhere.
+    EXPECT_NE(err("Texture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"planar\" \"float uscale\" 2\n")
+                  .find("uscale"),
+              std::string::npos);
 }
 
 }  // namespace

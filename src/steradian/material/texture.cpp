@@ -2,6 +2,28 @@
 
 namespace sr {
 
+Point2 UvMapping::map_position(Point3 p_world) const {
+    const Point3 p = texture_from_world.point(p_world);
+    switch (kind) {
+        case Kind::Spherical: {
+            const Float r = length(Vec3(p.x, p.y, p.z));
+            if (!(r > 0)) return {0, 0};
+            const Float theta = std::acos(std::clamp(p.z / r, Float(-1), Float(1)));
+            Float phi = std::atan2(p.y, p.x);
+            if (phi < 0) phi += 2 * kPi;
+            return {theta / kPi, phi / (2 * kPi)};
+        }
+        case Kind::Cylindrical:
+            return {(kPi + std::atan2(p.y, p.x)) / (2 * kPi), p.z};
+        case Kind::Planar: {
+            const Vec3 v(p.x, p.y, p.z);
+            return {du + dot(v, v1), dv + dot(v, v2)};
+        }
+        case Kind::Uv: break;
+    }
+    return {0, 0};
+}
+
 namespace {
 bool remap(int& i, int n, WrapMode wrap) {
     if (i >= 0 && i < n) return true;
@@ -39,14 +61,14 @@ Rgb TextureImage::bilerp(Point2 st) const {
 }
 
 Float ImageFloatTexture::evaluate(const SurfaceHit& h) const {
-    Rgb c = image->bilerp(mapping.map(h.uv));
+    Rgb c = image->bilerp(mapping.map(h));
     Float v = (c.r + c.g + c.b) / 3 * scale;
     return invert ? std::max(Float(0), 1 - v) : v;
 }
 
 SampledSpectrum ImageSpectrumTexture::evaluate(const SurfaceHit& h,
                                                const SampledWavelengths& lambda) const {
-    Rgb c = image->bilerp(mapping.map(h.uv)) * scale;
+    Rgb c = image->bilerp(mapping.map(h)) * scale;
     if (invert) c = {std::max(Float(0), 1 - c.r), std::max(Float(0), 1 - c.g), std::max(Float(0), 1 - c.b)};
     switch (kind) {
         case SpectrumKind::Albedo: {
@@ -71,7 +93,7 @@ Float MixFloatTexture::evaluate(const SurfaceHit& h) const {
 }
 
 Float CheckerboardFloatTexture::evaluate(const SurfaceHit& h) const {
-    return sr::evaluate(checkerboard_even(mapping, h.uv) ? *tex1 : *tex2, h);
+    return sr::evaluate(checkerboard_even(mapping, h) ? *tex1 : *tex2, h);
 }
 
 SampledSpectrum ScaleSpectrumTexture::evaluate(const SurfaceHit& h,
@@ -91,7 +113,7 @@ SampledSpectrum MixSpectrumTexture::evaluate(const SurfaceHit& h,
 
 SampledSpectrum CheckerboardSpectrumTexture::evaluate(const SurfaceHit& h,
                                                       const SampledWavelengths& lambda) const {
-    return sr::evaluate(checkerboard_even(mapping, h.uv) ? *tex1 : *tex2, h, lambda);
+    return sr::evaluate(checkerboard_even(mapping, h) ? *tex1 : *tex2, h, lambda);
 }
 
 Float evaluate(const FloatTexture& t, const SurfaceHit& h) {

@@ -5,6 +5,7 @@
 #include <memory>
 #include <variant>
 
+#include "steradian/core/transform.h"
 #include "steradian/film/image_io.h"
 #include "steradian/geometry/hit.h"
 #include "steradian/spectrum/spectrum.h"
@@ -13,9 +14,23 @@ namespace sr {
 
 enum class SpectrumKind { Albedo, Unbounded, Illuminant };
 
+/// pbrt-v4's 2D texture mappings ("mapping" of a texture): (s, t) from the hit's (u, v)
+/// ("uv": s = su u + du, t = sv v + dv), or from its position p in the texture's space
+/// (the CTM at the Texture directive): "spherical" s = theta / pi, t = phi / 2 pi of p about
+/// the origin (theta from +z); "cylindrical" s = (pi + atan2(y, x)) / 2 pi, t = z;
+/// "planar" s = du + p . v1, t = dv + p . v2.
 struct UvMapping {
+    enum class Kind { Uv, Spherical, Cylindrical, Planar };
+    Kind kind = Kind::Uv;
     Float su = 1, sv = 1, du = 0, dv = 0;
+    Transform texture_from_world;  ///< not for Uv
+    Vec3 v1{1, 0, 0}, v2{0, 1, 0};  ///< Planar
     Point2 map(Point2 uv) const { return {su * uv.x + du, sv * uv.y + dv}; }
+    Point2 map(const SurfaceHit& h) const {
+        if (kind == Kind::Uv) return map(h.uv);
+        return map_position(h.p);
+    }
+    Point2 map_position(Point3 p_world) const;
 };
 
 enum class WrapMode { Repeat, Clamp, Black };
@@ -54,8 +69,8 @@ Float evaluate(const FloatTexture& t, const SurfaceHit& h);
 /// on the others ((s, t) from the uv mapping). Point-sampled: steradian has no ray
 /// differentials, so pbrt-v4's box-filtered edges (which only matter where a pixel covers
 /// several squares) are not reproduced.
-inline bool checkerboard_even(const UvMapping& m, Point2 uv) {
-    Point2 st = m.map(uv);
+inline bool checkerboard_even(const UvMapping& m, const SurfaceHit& h) {
+    Point2 st = m.map(h);
     return (int64_t(std::floor(st.x)) + int64_t(std::floor(st.y))) % 2 == 0;
 }
 

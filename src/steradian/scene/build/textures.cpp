@@ -37,11 +37,35 @@ std::shared_ptr<const TextureImage> Builder::load_image(const TextureDesc& t, co
 }
 
 UvMapping Builder::read_mapping(const TextureDesc& t, const ParamSet& ps) {
-    std::string mapping = ps.get_string("mapping", "uv");
-    if (mapping != "uv")
-        throw_error(t.loc, "texture mapping \"{}\" is not supported yet (only \"uv\")", mapping);
-    return {ps.get_float("uscale", 1), ps.get_float("vscale", 1), ps.get_float("udelta", 0),
-            ps.get_float("vdelta", 0)};
+    // pbrt-v4's TextureMapping2D::Create: uscale and vscale belong to "uv" only, udelta and
+    // vdelta to "uv" and "planar".
+    const std::string mapping = ps.get_string("mapping", "uv");
+    UvMapping m;
+    if (mapping == "uv") {
+        m.su = ps.get_float("uscale", 1);
+        m.sv = ps.get_float("vscale", 1);
+        m.du = ps.get_float("udelta", 0);
+        m.dv = ps.get_float("vdelta", 0);
+        return m;
+    }
+    if (mapping == "spherical")
+        m.kind = UvMapping::Kind::Spherical;
+    else if (mapping == "cylindrical")
+        m.kind = UvMapping::Kind::Cylindrical;
+    else if (mapping == "planar")
+        m.kind = UvMapping::Kind::Planar;
+    else
+        throw_error(t.loc, "unknown texture mapping \"{}\" (pbrt-v4 has \"uv\", \"spherical\", "
+                           "\"cylindrical\" and \"planar\")", mapping);
+    check_transform(t.world_from_texture, t.loc, "the texture's mapping");
+    m.texture_from_world = t.world_from_texture.inverse();
+    if (m.kind == UvMapping::Kind::Planar) {
+        m.v1 = ps.find_vector3("v1").value_or(Vec3(1, 0, 0));
+        m.v2 = ps.find_vector3("v2").value_or(Vec3(0, 1, 0));
+        m.du = ps.get_float("udelta", 0);
+        m.dv = ps.get_float("vdelta", 0);
+    }
+    return m;
 }
 
 void Builder::build_textures() {
