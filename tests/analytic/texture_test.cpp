@@ -111,6 +111,33 @@ Material "diffuse" "texture reflectance" "checks"
     }
 }
 
+// pbrt-v4's "bilerp" (corners v00, v10, v01, v11 at (s, t) = (0,0), (1,0), (0,1), (1,1)):
+// the average of a bilinear function over a block of pixels is its value at the block's
+// centre, so each 4 x 4 block reads the corners' blend there. "directionmix" with
+// dir = (0, 0.6, 0.8) on the plane of normal +z mixes 0.8 tex1 + 0.2 tex2.
+TEST(Texture, BilerpAndDirectionMix) {
+    Rendered r = render_string(lit_plane_scene(R"(
+Texture "b" "spectrum" "bilerp" "spectrum v00" [ 300 0.1 900 0.1 ] "spectrum v10" [ 300 0.2 900 0.2 ]
+    "spectrum v01" [ 300 0.3 900 0.3 ] "spectrum v11" [ 300 0.4 900 0.4 ]
+Material "diffuse" "texture reflectance" "b"
+)", 64));
+    for (int by = 0; by < 4; ++by)
+        for (int bx = 0; bx < 4; ++bx) {
+            const double u = (bx * 4 + 2) / 16.0, v = 1 - (by * 4 + 2) / 16.0;
+            const double expected =
+                (1 - u) * (1 - v) * 0.1 + u * (1 - v) * 0.2 + (1 - u) * v * 0.3 + u * v * 0.4;
+            MeanSe m = mean_se(region(r, bx * 4, by * 4, bx * 4 + 4, by * 4 + 4, 3));
+            EXPECT_NEAR(m.mean, expected, 4.5 * m.se + 1e-3) << bx << "," << by;
+        }
+    Rendered d = render_string(lit_plane_scene(R"(
+Texture "d" "spectrum" "directionmix" "spectrum tex1" [ 300 0.5 900 0.5 ]
+    "spectrum tex2" [ 300 0.25 900 0.25 ] "vector3 dir" [ 0 0.6 0.8 ]
+Material "diffuse" "texture reflectance" "d"
+)", 64));
+    MeanSe m = mean_se(region(d, 0, 0, 16, 16, 3));
+    EXPECT_NEAR(m.mean, 0.8 * 0.5 + 0.2 * 0.25, 4.5 * m.se + 1e-3);
+}
+
 TEST(Texture, CompositeTextureErrors) {
     auto err = [](const std::string& tex) {
         try {

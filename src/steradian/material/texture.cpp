@@ -116,6 +116,28 @@ SampledSpectrum CheckerboardSpectrumTexture::evaluate(const SurfaceHit& h,
     return sr::evaluate(checkerboard_even(mapping, h) ? *tex1 : *tex2, h, lambda);
 }
 
+Float DirectionMixFloatTexture::evaluate(const SurfaceHit& h) const {
+    const Float a = std::abs(dot(Vec3(h.ng.x, h.ng.y, h.ng.z), dir));
+    const Float t1 = a != 0 ? sr::evaluate(*tex1, h) : 0, t2 = a != 1 ? sr::evaluate(*tex2, h) : 0;
+    return a * t1 + (1 - a) * t2;
+}
+
+SampledSpectrum DirectionMixSpectrumTexture::evaluate(const SurfaceHit& h,
+                                                      const SampledWavelengths& lambda) const {
+    const Float a = std::abs(dot(Vec3(h.ng.x, h.ng.y, h.ng.z), dir));
+    SampledSpectrum r(0);
+    if (a != 0) r += sr::evaluate(*tex1, h, lambda) * a;
+    if (a != 1) r += sr::evaluate(*tex2, h, lambda) * (1 - a);
+    return r;
+}
+
+SampledSpectrum BilerpSpectrumTexture::evaluate(const SurfaceHit& h,
+                                                const SampledWavelengths& lambda) const {
+    const Point2 st = mapping.map(h);
+    return v00.sample(lambda) * ((1 - st.x) * (1 - st.y)) + v10.sample(lambda) * (st.x * (1 - st.y)) +
+           v01.sample(lambda) * ((1 - st.x) * st.y) + v11.sample(lambda) * (st.x * st.y);
+}
+
 Float evaluate(const FloatTexture& t, const SurfaceHit& h) {
     return std::visit([&](const auto& x) { return x.evaluate(h); }, t);
 }

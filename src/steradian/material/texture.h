@@ -60,9 +60,22 @@ struct ImageFloatTexture {
 struct ScaleFloatTexture;
 struct MixFloatTexture;
 struct CheckerboardFloatTexture;
+struct DirectionMixFloatTexture;
+
+/// pbrt-v4's "bilerp": v00 (1 - s)(1 - t) + v10 s (1 - t) + v01 (1 - s) t + v11 s t.
+struct BilerpFloatTexture {
+    UvMapping mapping;
+    Float v00 = 0, v01 = 1, v10 = 0, v11 = 1;
+    Float evaluate(const SurfaceHit& h) const {
+        const Point2 st = mapping.map(h);
+        return (1 - st.x) * (1 - st.y) * v00 + st.x * (1 - st.y) * v10 +
+               (1 - st.x) * st.y * v01 + st.x * st.y * v11;
+    }
+};
 
 using FloatTexture = std::variant<ConstantFloatTexture, ImageFloatTexture, ScaleFloatTexture,
-                                  MixFloatTexture, CheckerboardFloatTexture>;
+                                  MixFloatTexture, CheckerboardFloatTexture,
+                                  DirectionMixFloatTexture, BilerpFloatTexture>;
 Float evaluate(const FloatTexture& t, const SurfaceHit& h);
 
 /// pbrt-v4's 2D checkerboard: tex1 on the squares where floor(s) + floor(t) is even, tex2
@@ -89,6 +102,12 @@ struct CheckerboardFloatTexture {
     UvMapping mapping;
     Float evaluate(const SurfaceHit& h) const;
 };
+/// pbrt-v4's "directionmix": a tex1 + (1 - a) tex2 with a = |ng . dir| (dir: unit, world).
+struct DirectionMixFloatTexture {
+    std::shared_ptr<const FloatTexture> tex1, tex2;
+    Vec3 dir{0, 1, 0};
+    Float evaluate(const SurfaceHit& h) const;
+};
 
 struct ConstantSpectrumTexture {
     Spectrum value;
@@ -109,10 +128,19 @@ struct ImageSpectrumTexture {
 struct ScaleSpectrumTexture;
 struct MixSpectrumTexture;
 struct CheckerboardSpectrumTexture;
+struct DirectionMixSpectrumTexture;
+
+/// pbrt-v4's "bilerp" of four spectra, weighted as BilerpFloatTexture.
+struct BilerpSpectrumTexture {
+    UvMapping mapping;
+    Spectrum v00, v01, v10, v11;
+    SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
+};
 
 using SpectrumTexture = std::variant<ConstantSpectrumTexture, ImageSpectrumTexture,
                                      ScaleSpectrumTexture, MixSpectrumTexture,
-                                     CheckerboardSpectrumTexture>;
+                                     CheckerboardSpectrumTexture, DirectionMixSpectrumTexture,
+                                     BilerpSpectrumTexture>;
 SampledSpectrum evaluate(const SpectrumTexture& t, const SurfaceHit& h,
                          const SampledWavelengths& lambda);
 
@@ -131,6 +159,13 @@ struct MixSpectrumTexture {
 struct CheckerboardSpectrumTexture {
     std::shared_ptr<const SpectrumTexture> tex1, tex2;
     UvMapping mapping;
+    SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
+};
+
+/// pbrt-v4's "directionmix" of two spectrum textures (as DirectionMixFloatTexture).
+struct DirectionMixSpectrumTexture {
+    std::shared_ptr<const SpectrumTexture> tex1, tex2;
+    Vec3 dir{0, 1, 0};
     SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
 };
 

@@ -65,6 +65,7 @@ class Builder {
                                                           const SourceLoc& loc,
                                                           const std::string& what);
     UvMapping read_mapping(const TextureDesc& t, const ParamSet& ps);
+    Vec3 mix_direction(const TextureDesc& t, const ParamSet& ps);
     void build_textures();
     static void check_checkerboard_dimension(const TextureDesc& t, const ParamSet& ps);
     std::shared_ptr<const FloatTexture> float_tex_arg(const ParamSet& ps, std::string_view name,

@@ -36,6 +36,14 @@ std::shared_ptr<const TextureImage> Builder::load_image(const TextureDesc& t, co
     return img;
 }
 
+/// "directionmix"'s "dir" (default (0, 1, 0)) in the texture's space, as a unit world vector.
+Vec3 Builder::mix_direction(const TextureDesc& t, const ParamSet& ps) {
+    const Vec3 d = t.world_from_texture.vector(ps.find_vector3("dir").value_or(Vec3(0, 1, 0)));
+    if (!(length(d) > 0) || !std::isfinite(length(d)))
+        throw_error(t.loc, "Texture \"{}\": \"dir\" must be a non-zero vector", t.name);
+    return normalize(d);
+}
+
 UvMapping Builder::read_mapping(const TextureDesc& t, const ParamSet& ps) {
     // pbrt-v4's TextureMapping2D::Create: uscale and vscale belong to "uv" only, udelta and
     // vdelta to "uv" and "planar".
@@ -92,6 +100,13 @@ void Builder::build_textures() {
             check_checkerboard_dimension(t, ps);
             tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1),
                                            float_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
+        } else if (t.type == "directionmix") {
+            tex = DirectionMixFloatTexture{float_tex_arg(ps, "tex1", 0),
+                                           float_tex_arg(ps, "tex2", 1), mix_direction(t, ps)};
+        } else if (t.type == "bilerp") {
+            tex = BilerpFloatTexture{read_mapping(t, ps), ps.get_float("v00", 0),
+                                     ps.get_float("v01", 1), ps.get_float("v10", 0),
+                                     ps.get_float("v11", 1)};
         } else {
             unsupported(t, "Texture");
         }
@@ -120,9 +135,23 @@ void Builder::build_textures() {
             ps.check_unused(fmt::format("Texture \"{}\"", t.name));
             m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
             m_s.spectrum_textures.push_back(it);
-        } else if (t.type == "scale" || t.type == "mix" || t.type == "checkerboard") {
+        } else if (t.type == "scale" || t.type == "mix" || t.type == "checkerboard" ||
+                   t.type == "directionmix" || t.type == "bilerp") {
             SpectrumTexture tex;
-            if (t.type == "scale") {
+            if (t.type == "directionmix") {
+                tex = DirectionMixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
+                                                  spectrum_tex_arg(ps, "tex2", 1),
+                                                  mix_direction(t, ps)};
+            } else if (t.type == "bilerp") {
+                auto corner = [&](std::string_view name, Float def) {
+                    const Param* p = ps.find_spectrum(name);
+                    return p ? Spectrum(densely_sampled(
+                                   spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir)))
+                             : Spectrum(ConstantSpectrum{def});
+                };
+                tex = BilerpSpectrumTexture{read_mapping(t, ps), corner("v00", 0),
+                                            corner("v01", 1), corner("v10", 0), corner("v11", 1)};
+            } else if (t.type == "scale") {
                 tex = ScaleSpectrumTexture{spectrum_tex_arg(ps, "tex", 1),
                                            float_tex_arg(ps, "scale", 1)};
             } else if (t.type == "mix") {
