@@ -14,12 +14,15 @@ namespace {
 struct UserShape {
     const Sphere* sphere = nullptr;
     const Disk* disk = nullptr;
-    const AlphaMask* alpha = nullptr;  ///< disks only
+    const Cylinder* cylinder = nullptr;
+    const AlphaMask* alpha = nullptr;  ///< disks and cylinders only
     unsigned geom_id = 0;
 };
 
 const Transform& object_transform(const UserShape& u) {
-    return u.sphere ? u.sphere->world_from_object : u.disk->world_from_object;
+    return u.sphere ? u.sphere->world_from_object
+           : u.disk ? u.disk->world_from_object
+                    : u.cylinder->world_from_object;
 }
 
 void user_bounds(const RTCBoundsFunctionArguments* args) {
@@ -29,10 +32,14 @@ void user_bounds(const RTCBoundsFunctionArguments* args) {
         Float r = us->sphere->radius;
         ob.expand(Point3(-r, -r, us->sphere->z_min));
         ob.expand(Point3(r, r, us->sphere->z_max));
-    } else {
+    } else if (us->disk) {
         Float r = us->disk->radius;
         ob.expand(Point3(-r, -r, us->disk->height));
         ob.expand(Point3(r, r, us->disk->height));
+    } else {
+        Float r = us->cylinder->radius;
+        ob.expand(Point3(-r, -r, us->cylinder->z_min));
+        ob.expand(Point3(r, r, us->cylinder->z_max));
     }
     const Transform& t = object_transform(*us);
     Bounds3 wb;
@@ -60,6 +67,19 @@ bool user_hit(const UserShape& us, Point3 o, Vec3 d, Float tnear, Float tfar, Fl
     Vec3 od = obj_from.vector(d);
     Point3 ph;
     Float th;
+    if (us.cylinder) {
+        // A cut-out lets the ray on to the cylinder's far wall.
+        Float t_min = tnear;
+        while (us.cylinder->intersect_object(oo, od, tfar, th, ph, t_min)) {
+            SurfaceHit h;
+            if (!us.alpha || (us.cylinder->fill_hit(ph, h), alpha_stops(*us.alpha, h, o, d))) {
+                t = th;
+                return true;
+            }
+            t_min = th;
+        }
+        return false;
+    }
     bool hit = us.sphere ? us.sphere->intersect_object(oo, od, tfar, th, ph)
                          : us.disk->intersect_object(oo, od, tfar, th, ph);
     if (!hit || th <= tnear) return false;
@@ -195,7 +215,8 @@ struct Accel::Impl {
             auto us = std::make_unique<UserShape>();
             us->sphere = std::get_if<Sphere>(&e.geometry);
             us->disk = std::get_if<Disk>(&e.geometry);
-            if (us->disk) us->alpha = e.alpha.get();
+            us->cylinder = std::get_if<Cylinder>(&e.geometry);
+            if (us->disk || us->cylinder) us->alpha = e.alpha.get();
             g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
             rtcSetGeometryUserData(g, us.get());
@@ -249,11 +270,19 @@ struct Accel::Impl {
                 Float len = length(p_obj);
                 if (len > 0) p_obj = p_obj * (s->radius / len);
                 s->fill_hit(p_obj, h);
+            } else if (const auto* d = std::get_if<Disk>(&e.geometry)) {
+                Point3 p_obj = d->world_from_object.inverse().point(p_local);
+                p_obj.z = d->height;
+                d->fill_hit(p_obj, h);
             } else {
-                const Disk& d = std::get<Disk>(e.geometry);
-                Point3 p_obj = d.world_from_object.inverse().point(p_local);
-                p_obj.z = d.height;
-                d.fill_hit(p_obj, h);
+                const Cylinder& c = std::get<Cylinder>(e.geometry);
+                Point3 p_obj = c.world_from_object.inverse().point(p_local);
+                const Float rr = std::sqrt(sqr(p_obj.x) + sqr(p_obj.y));
+                if (rr > 0) {
+                    p_obj.x *= c.radius / rr;
+                    p_obj.y *= c.radius / rr;
+                }
+                c.fill_hit(p_obj, h);
             }
             if (e.light_offset >= 0) h.light = e.light_offset;
         }

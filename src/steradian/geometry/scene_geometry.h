@@ -17,7 +17,7 @@
 
 namespace sr {
 
-using ShapeGeometry = std::variant<TriangleMesh, Sphere, Disk>;
+using ShapeGeometry = std::variant<TriangleMesh, Sphere, Disk, Cylinder>;
 
 /// A shape's alpha (pbrt-v4's "alpha" cut-outs), given by the scene (a float texture):
 /// the fraction of the rays meeting the surface at a hit that stop there.
@@ -43,7 +43,7 @@ struct ShapeEntry {
     ShapeGeometry geometry;
     int material = -1;     ///< index into Scene::materials; -1 = interface
     int light_offset = -1; ///< first light of this shape (one per triangle), or -1
-    /// Cut-outs (triangle meshes and disks); null: opaque.
+    /// Cut-outs (triangle meshes, disks and cylinders); null: opaque.
     std::shared_ptr<const AlphaMask> alpha;
 };
 

@@ -521,6 +521,63 @@ void Disk::fill_hit(Point3 p_obj, SurfaceHit& h) const {
     h.dpdv = world_from_object.vector(dpdv_obj);
 }
 
+bool Cylinder::intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit,
+                                Float t_min) const {
+    // x^2 + y^2 = r^2 along o + t d, in double, with the cancellation-free discriminant of
+    // the sphere's (the distance of the line from the axis, not b^2 - 4ac).
+    const double ox = o.x, oy = o.y, dx = d.x, dy = d.y;
+    const double a = dx * dx + dy * dy;
+    if (a == 0) return false;  // parallel to the axis
+    const double b = 2 * (dx * ox + dy * oy);
+    const double c = ox * ox + oy * oy - double(radius) * radius;
+    const double fx = ox - b / (2 * a) * dx, fy = oy - b / (2 * a) * dy;
+    const double len = std::sqrt(fx * fx + fy * fy);
+    const double disc = 4 * a * (double(radius) + len) * (double(radius) - len);
+    if (disc < 0) return false;
+    const double root = std::sqrt(disc);
+    const double q = (b < 0) ? -0.5 * (b - root) : -0.5 * (b + root);
+    double t0 = q / a, t1 = q != 0 ? c / q : t0;
+    if (t0 > t1) std::swap(t0, t1);
+    for (double t : {t0, t1}) {
+        if (!(t > t_min && t < t_max)) continue;
+        const double px = ox + t * dx, py = oy + t * dy, pz = double(o.z) + t * double(d.z);
+        if (pz < z_min || pz > z_max) continue;
+        double phi = std::atan2(py, px);
+        if (phi < 0) phi += 2 * std::numbers::pi;
+        if (phi > phi_max) continue;
+        // On the surface: the hit's distance from the axis is the radius, up to rounding.
+        const double k = double(radius) / std::sqrt(px * px + py * py);
+        t_hit = Float(t);
+        p_hit = Point3(Float(px * k), Float(py * k), Float(pz));
+        return true;
+    }
+    return false;
+}
+
+void Cylinder::fill_hit(Point3 p_obj, SurfaceHit& h) const {
+    const Vec3 err_obj = Vec3(std::abs(p_obj.x), std::abs(p_obj.y), 0) * gamma_bound(3);
+    to_world(world_from_object, p_obj, err_obj, h.p, h.p_error);
+    Normal3 n = normalize(world_from_object.normal(Normal3(p_obj.x, p_obj.y, 0)));
+    if (flip_normals) n = -n;
+    h.ng = h.ns = n;
+    Float phi = std::atan2(p_obj.y, p_obj.x);
+    if (phi < 0) phi += 2 * kPi;
+    h.uv = Point2(phi / phi_max, (p_obj.z - z_min) / (z_max - z_min));
+    const Vec3 dpdu_obj(-phi_max * p_obj.y, phi_max * p_obj.x, 0);
+    const Vec3 dpdv_obj(0, 0, z_max - z_min);
+    h.dpdu = world_from_object.vector(dpdu_obj);
+    h.dpdv = world_from_object.vector(dpdv_obj);
+    // The outward normal is (x, y, 0) / r: dn/du = dp/du / r, dn/dv = 0.
+    const Float k = (flip_normals ? -1 : 1) / radius;
+    h.dndu = world_from_object.normal(Normal3(dpdu_obj * k));
+    h.dndv = Normal3(0, 0, 0);
+}
+
+Float Cylinder::area() const {
+    const double s = similarity_scale(world_from_object);
+    return Float(double(z_max - z_min) * radius * phi_max * s * s);
+}
+
 Float Disk::area() const {
     double s = similarity_scale(world_from_object);
     return Float(double(phi_max) * 0.5 * (sqr(double(radius)) - sqr(double(inner_radius))) * s * s);

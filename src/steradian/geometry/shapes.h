@@ -141,6 +141,20 @@ struct Disk {
     ShapeSample sample_area(Point2 u) const;
 };
 
+/// pbrt-v4's cylinder: x^2 + y^2 = r^2 in object space for z in [z_min, z_max] and
+/// phi = atan2(y, x) in [0, phi_max]; open at both ends; normal outwards (x, y, 0) / r;
+/// u = phi / phi_max, v = (z - z_min) / (z_max - z_min).
+struct Cylinder {
+    Transform world_from_object;
+    Float radius = 1, z_min = -1, z_max = 1, phi_max = 2 * kPi;
+    bool flip_normals = false;
+    /// Object-space intersection: nearest t in (t_min, t_max) (either wall, inside or out).
+    bool intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit,
+                          Float t_min = 0) const;
+    void fill_hit(Point3 p_obj, SurfaceHit& h) const;
+    Float area() const;
+};
+
 /// Converts an area-measure sample to solid angle as seen from ref (pdf_sa), 0 if the
 /// sample is edge-on or coincides with ref.
 inline Float area_to_solid_angle_pdf(Float pdf_area, Point3 ref, Point3 p, Normal3 n) {

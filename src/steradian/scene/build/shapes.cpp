@@ -109,6 +109,22 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
         ps.check_unused(what);
         return d;
     }
+    if (s.type == "cylinder") {
+        // pbrt-v4's Cylinder::Create: radius 1, zmin -1, zmax 1, phimax 360.
+        Cylinder c;
+        c.world_from_object = s.world_from_object;
+        c.radius = ps.get_float("radius", 1);
+        if (!(c.radius > 0)) throw_error(s.loc, "{}: radius must be positive", what);
+        const Float zmin = ps.get_float("zmin", -1), zmax = ps.get_float("zmax", 1);
+        c.z_min = std::min(zmin, zmax);
+        c.z_max = std::max(zmin, zmax);
+        if (!(c.z_max > c.z_min)) throw_error(s.loc, "{}: zmin and zmax must differ", what);
+        c.phi_max = radians(clamp(ps.get_float("phimax", 360), Float(0), Float(360)));
+        c.flip_normals = s.reverse_orientation != s.world_from_object.swaps_handedness();
+        check_alpha(s);
+        ps.check_unused(what);
+        return c;
+    }
     throw_error(s.loc, "shape type \"{}\" is not supported yet (see docs/pbrt-support.md)", s.type);
 }
 
@@ -217,6 +233,8 @@ void check_extent(const ShapeGeometry& g, const ShapeDesc& s) {
         corners(sp->world_from_object, sp->radius, -sp->radius, sp->radius);
     } else if (const auto* d = std::get_if<Disk>(&g)) {
         corners(d->world_from_object, d->radius, d->height, d->height);
+    } else if (const auto* c = std::get_if<Cylinder>(&g)) {
+        corners(c->world_from_object, c->radius, c->z_min, c->z_max);
     }
 }
 
@@ -233,6 +251,8 @@ void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
     e.material = resolve_material(s.material);
     e.alpha = alpha_mask(s);
     int index = int(m_s.shapes.size());
+    if (s.area_light >= 0 && std::holds_alternative<Cylinder>(e.geometry))
+        throw_error(s.loc, "an emitting cylinder (area light) is not supported yet");
     if (s.area_light >= 0 && e.alpha)
         throw_error(s.params.find("alpha")->loc,
                     "\"alpha\" on an emitting shape (area light) is not supported yet");
