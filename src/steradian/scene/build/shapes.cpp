@@ -2,6 +2,8 @@
 #include <map>
 
 #include "steradian/scene/build/builder.h"
+
+#include "steradian/geometry/loop_subdivision.h"
 #include "steradian/scene/mesh_io/ply.h"
 
 namespace sr::build_detail {
@@ -108,6 +110,25 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
         check_alpha(s);
         ps.check_unused(what);
         return d;
+    }
+    if (s.type == "loopsubdiv") {
+        // pbrt-v4's LoopSubdivide: "levels" (3), "indices", "P"; the limit surface with its
+        // normals as a triangle mesh.
+        auto p = ps.get_point3s("P");
+        auto idx = ps.get_ints("indices");
+        const int levels = ps.get_int("levels", 3);
+        if (p.empty()) throw_error(s.loc, "{}: \"P\" is required", what);
+        if (levels < 0 || levels > 12)
+            throw_error(s.loc, "{}: \"levels\" must be from 0 to 12, is {}", what, levels);
+        check_alpha(s);
+        ps.check_unused(what);
+        SubdividedMesh m;
+        try {
+            m = loop_subdivide(p, idx, levels);
+        } catch (const Error& e) {
+            throw_error(s.loc, "{}: {}", what, e.what());
+        }
+        return make_mesh(s, std::move(m.p), std::move(m.n), {}, std::move(m.indices));
     }
     if (s.type == "cylinder") {
         // pbrt-v4's Cylinder::Create: radius 1, zmin -1, zmax 1, phimax 360.
