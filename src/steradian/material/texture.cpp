@@ -1,5 +1,7 @@
 #include "steradian/material/texture.h"
 
+#include "steradian/material/noise.h"
+
 namespace sr {
 
 Point2 UvMapping::map_position(Point3 p_world) const {
@@ -136,6 +138,39 @@ SampledSpectrum BilerpSpectrumTexture::evaluate(const SurfaceHit& h,
     const Point2 st = mapping.map(h);
     return v00.sample(lambda) * ((1 - st.x) * (1 - st.y)) + v10.sample(lambda) * (st.x * (1 - st.y)) +
            v01.sample(lambda) * ((1 - st.x) * st.y) + v11.sample(lambda) * (st.x * st.y);
+}
+
+Float NoiseFloatTexture::evaluate(const SurfaceHit& h) const {
+    const Point3 p = texture_from_world.point(h.p);
+    switch (kind) {
+        case Kind::Fbm: return fbm(p, omega, octaves);
+        case Kind::Wrinkled: return turbulence(p, omega, octaves);
+        case Kind::Windy: {
+            const Float wind = fbm(Point3(p.x * Float(0.1), p.y * Float(0.1), p.z * Float(0.1)),
+                                   Float(0.5), 3);
+            return std::abs(wind) * fbm(p, Float(0.5), 6);
+        }
+    }
+    return 0;
+}
+
+bool dots_inside(const UvMapping& m, const SurfaceHit& h) {
+    const Point2 st = m.map(h);
+    const Float s_cell = std::floor(st.x + Float(0.5)), t_cell = std::floor(st.y + Float(0.5));
+    if (!(perlin_noise(s_cell + Float(0.5), t_cell + Float(0.5)) > 0)) return false;
+    constexpr Float kRadius = Float(0.35), kMaxShift = Float(0.5) - kRadius;
+    const Float s_center = s_cell + kMaxShift * perlin_noise(s_cell + Float(1.5), t_cell + Float(2.8));
+    const Float t_center = t_cell + kMaxShift * perlin_noise(s_cell + Float(4.5), t_cell + Float(9.8));
+    return sqr(st.x - s_center) + sqr(st.y - t_center) < sqr(kRadius);
+}
+
+Float DotsFloatTexture::evaluate(const SurfaceHit& h) const {
+    return sr::evaluate(dots_inside(mapping, h) ? *inside : *outside, h);
+}
+
+SampledSpectrum DotsSpectrumTexture::evaluate(const SurfaceHit& h,
+                                              const SampledWavelengths& lambda) const {
+    return sr::evaluate(dots_inside(mapping, h) ? *inside : *outside, h, lambda);
 }
 
 Float evaluate(const FloatTexture& t, const SurfaceHit& h) {

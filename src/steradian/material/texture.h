@@ -73,9 +73,28 @@ struct BilerpFloatTexture {
     }
 };
 
+/// pbrt-v4's noise textures ("fbm", "wrinkled", "windy"), of the hit's position in the
+/// texture's space (material/noise.h), with every octave (no ray differentials).
+struct NoiseFloatTexture {
+    enum class Kind { Fbm, Wrinkled, Windy };
+    Kind kind = Kind::Fbm;
+    Transform texture_from_world;
+    int octaves = 8;
+    Float omega = Float(0.5);  ///< "roughness"
+    Float evaluate(const SurfaceHit& h) const;
+};
+
+struct DotsFloatTexture;
+
 using FloatTexture = std::variant<ConstantFloatTexture, ImageFloatTexture, ScaleFloatTexture,
                                   MixFloatTexture, CheckerboardFloatTexture,
-                                  DirectionMixFloatTexture, BilerpFloatTexture>;
+                                  DirectionMixFloatTexture, BilerpFloatTexture,
+                                  NoiseFloatTexture, DotsFloatTexture>;
+
+/// pbrt-v4's "dots": in the unit cell around integer (s, t) (s, t from the mapping) whose
+/// noise at the cell's centre is positive, a disk of radius 0.35 centred within 0.15 of the
+/// cell's middle (offset by noise); `inside` there, `outside` elsewhere.
+bool dots_inside(const UvMapping& m, const SurfaceHit& h);
 Float evaluate(const FloatTexture& t, const SurfaceHit& h);
 
 /// pbrt-v4's 2D checkerboard: tex1 on the squares where floor(s) + floor(t) is even, tex2
@@ -100,6 +119,11 @@ struct MixFloatTexture {
 struct CheckerboardFloatTexture {
     std::shared_ptr<const FloatTexture> tex1, tex2;
     UvMapping mapping;
+    Float evaluate(const SurfaceHit& h) const;
+};
+struct DotsFloatTexture {
+    UvMapping mapping;
+    std::shared_ptr<const FloatTexture> inside, outside;
     Float evaluate(const SurfaceHit& h) const;
 };
 /// pbrt-v4's "directionmix": a tex1 + (1 - a) tex2 with a = |ng . dir| (dir: unit, world).
@@ -137,10 +161,12 @@ struct BilerpSpectrumTexture {
     SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
 };
 
+struct DotsSpectrumTexture;
+
 using SpectrumTexture = std::variant<ConstantSpectrumTexture, ImageSpectrumTexture,
                                      ScaleSpectrumTexture, MixSpectrumTexture,
                                      CheckerboardSpectrumTexture, DirectionMixSpectrumTexture,
-                                     BilerpSpectrumTexture>;
+                                     BilerpSpectrumTexture, DotsSpectrumTexture>;
 SampledSpectrum evaluate(const SpectrumTexture& t, const SurfaceHit& h,
                          const SampledWavelengths& lambda);
 
@@ -166,6 +192,13 @@ struct CheckerboardSpectrumTexture {
 struct DirectionMixSpectrumTexture {
     std::shared_ptr<const SpectrumTexture> tex1, tex2;
     Vec3 dir{0, 1, 0};
+    SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
+};
+
+/// pbrt-v4's "dots" of two spectrum textures (as DotsFloatTexture).
+struct DotsSpectrumTexture {
+    UvMapping mapping;
+    std::shared_ptr<const SpectrumTexture> inside, outside;
     SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
 };
 

@@ -103,6 +103,23 @@ void Builder::build_textures() {
         } else if (t.type == "directionmix") {
             tex = DirectionMixFloatTexture{float_tex_arg(ps, "tex1", 0),
                                            float_tex_arg(ps, "tex2", 1), mix_direction(t, ps)};
+        } else if (t.type == "fbm" || t.type == "wrinkled" || t.type == "windy") {
+            NoiseFloatTexture n;
+            n.kind = t.type == "fbm"        ? NoiseFloatTexture::Kind::Fbm
+                     : t.type == "wrinkled" ? NoiseFloatTexture::Kind::Wrinkled
+                                            : NoiseFloatTexture::Kind::Windy;
+            check_transform(t.world_from_texture, t.loc, "the texture's space");
+            n.texture_from_world = t.world_from_texture.inverse();
+            if (n.kind != NoiseFloatTexture::Kind::Windy) {
+                n.octaves = ps.get_int("octaves", 8);
+                n.omega = ps.get_float("roughness", 0.5f);
+                if (n.octaves < 0 || n.octaves > 64)
+                    throw_error(t.loc, "Texture \"{}\": \"octaves\" must be from 0 to 64", t.name);
+            }
+            tex = n;
+        } else if (t.type == "dots") {
+            tex = DotsFloatTexture{read_mapping(t, ps), float_tex_arg(ps, "inside", 1),
+                                   float_tex_arg(ps, "outside", 0)};
         } else if (t.type == "bilerp") {
             tex = BilerpFloatTexture{read_mapping(t, ps), ps.get_float("v00", 0),
                                      ps.get_float("v01", 1), ps.get_float("v10", 0),
@@ -136,9 +153,12 @@ void Builder::build_textures() {
             m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
             m_s.spectrum_textures.push_back(it);
         } else if (t.type == "scale" || t.type == "mix" || t.type == "checkerboard" ||
-                   t.type == "directionmix" || t.type == "bilerp") {
+                   t.type == "directionmix" || t.type == "bilerp" || t.type == "dots") {
             SpectrumTexture tex;
-            if (t.type == "directionmix") {
+            if (t.type == "dots") {
+                tex = DotsSpectrumTexture{read_mapping(t, ps), spectrum_tex_arg(ps, "inside", 1),
+                                          spectrum_tex_arg(ps, "outside", 0)};
+            } else if (t.type == "directionmix") {
                 tex = DirectionMixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
                                                   spectrum_tex_arg(ps, "tex2", 1),
                                                   mix_direction(t, ps)};
