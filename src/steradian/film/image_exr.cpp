@@ -1,4 +1,5 @@
 // OpenEXR files through the OpenEXR library (see image_formats.h).
+#include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -14,6 +15,7 @@
 #include <exception>
 #include <stdexcept>
 #include <fstream>
+#include <vector>
 
 #include "steradian/core/error.h"
 #include "steradian/film/image_formats.h"
@@ -90,16 +92,21 @@ void write_exr(const std::string& file, const std::string& path, const Image& im
         const Imf::PixelType type = half_float ? Imf::HALF : Imf::FLOAT;
         static const char* const rgb[] = {"R", "G", "B"};
         const char* const* names = img.channels == 3 ? rgb : nullptr;
-        Imf::FrameBuffer fb;
-        const size_t xs = sizeof(float) * size_t(img.channels);
+        // The library converts half to float on reading but not float to half on writing:
+        // halves are converted here (Imath's conversion, rounding to nearest even).
+        std::vector<Imath::half> halves;
+        if (half_float) halves.assign(img.data.begin(), img.data.end());
+        const size_t value_size = half_float ? sizeof(Imath::half) : sizeof(float);
+        const char* pixels = half_float ? reinterpret_cast<const char*>(halves.data())
+                                        : reinterpret_cast<const char*>(img.data.data());
+        const size_t xs = value_size * size_t(img.channels);
         const size_t ys = xs * size_t(img.width);
-        // The slices are floats; the library converts them to half when the file's channel
-        // is half (Imath's conversion, rounding to nearest even).
+        Imf::FrameBuffer fb;
         for (int c = 0; c < img.channels; ++c) {
             const char* name = names ? names[c] : "Y";
             header.channels().insert(name, Imf::Channel(type));
-            char* base = reinterpret_cast<char*>(const_cast<float*>(img.data.data() + c));
-            fb.insert(name, Imf::Slice(Imf::FLOAT, base, xs, ys));
+            fb.insert(name, Imf::Slice(type, const_cast<char*>(pixels + value_size * size_t(c)),
+                                       xs, ys));
         }
         CheckedOStream os(file);
         if (!os.error().empty())
