@@ -138,19 +138,23 @@ LoadedModule load_module() {
     return m;
 }
 
-/// The module, loaded on the first call (thread-safe); throws sr::Error naming `path`.
-const SrOiioModule& openimageio(const std::string& path) {
+/// The module, loaded on the first call (thread-safe); throws sr::Error naming `path` and
+/// saying why the file needed it (`reading`: the file is not a PFM, nor an EXR or PNG of a
+/// layout read directly; else: the extension is not .pfm, .exr or .png).
+const SrOiioModule& openimageio(const std::string& path, bool reading) {
     static const LoadedModule module = load_module();
     if (!module.api)
-        throw Error(fmt::format("{}: the image format \"{}\" is handled by OpenImageIO, whose "
-                                "module ({}) could not be loaded: {}",
-                                path, extension(path), kModuleName, module.error));
+        throw Error(fmt::format(
+            "{}: {} through OpenImageIO, whose module ({}) could not be loaded: {}", path,
+            reading ? "cannot read image: images other than PFM and plain EXR and PNG are read"
+                    : fmt::format("the image format \"{}\" is written", extension(path)),
+            kModuleName, module.error));
     return *module.api;
 }
 
 void write_with_openimageio(const std::string& tmp, const std::string& path, const Image& img,
                             bool is_float, bool half, const void* pixels) {
-    const SrOiioModule& oiio = openimageio(path);
+    const SrOiioModule& oiio = openimageio(path, false);
     char err[1024] = "";
     if (!oiio.write(tmp.c_str(), img.width, img.height, img.channels, is_float, half, pixels,
                     err, sizeof err))
@@ -158,7 +162,7 @@ void write_with_openimageio(const std::string& tmp, const std::string& path, con
 }
 
 Image read_with_openimageio(const std::string& path, bool srgb_decode) {
-    const SrOiioModule& oiio = openimageio(path);
+    const SrOiioModule& oiio = openimageio(path, true);
     char err[1024] = "";
     SrOiioHeader spec{};
     void* in = oiio.open(path.c_str(), &spec, err, sizeof err);
@@ -234,7 +238,7 @@ void check_image_output(const std::string& path, int channels) {
     if (channels != 3 && !(channels == 1 && ext == ".exr"))
         throw Error(fmt::format("{}: expected an RGB image{}", path,
                                 channels == 1 ? " (single-channel images: .exr only)" : ""));
-    if (!written_directly(ext) && !openimageio(path).can_write(path.c_str()))
+    if (!written_directly(ext) && !openimageio(path, false).can_write(path.c_str()))
         throw Error(fmt::format("{}: unknown image format \"{}\" (use .exr, .pfm or .png)", path,
                                 ext));
     check_output_path(path, "image output");

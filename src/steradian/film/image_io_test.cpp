@@ -433,6 +433,19 @@ TEST_F(ImageIo, ExrLayoutsReadAsOpenImageIoReadsThem) {
     EXPECT_EQ(rgba.at(1, 0, 3), 1.0f);   // A: channel 0
 }
 
+TEST_F(ImageIo, PbrtV4ExrFilesReadAsBefore) {
+    // The reference images pbrt-v4 wrote (float and half RGB, ZIP): the same bits directly and
+    // through OpenImageIO.
+    const std::string dir = std::string(STERADIAN_SOURCE_DIR) + "/tests/data/reference/";
+    for (const char* f : {"cornell-box/pbrt-v4-1024spp.exr", "cornell-box/pbrt-v4-64spp.exr",
+                          "cornell-box-glass-metal/pbrt-v4-1024spp.exr"}) {
+        SCOPED_TRACE(f);
+        Image img = read_both_ways(dir + f);
+        EXPECT_EQ(img.width, 512);
+        EXPECT_EQ(img.channels, 3);
+    }
+}
+
 /// Writes a PNG with libpng: `codes` row-major (8- or 16-bit values, one per sample; for
 /// depths below 8, one per pixel), with an optional gAMA of 1.0 and Adam7 interlacing.
 void write_test_png(const std::string& p, int w, int h, int color_type, int depth,
