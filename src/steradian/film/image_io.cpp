@@ -111,7 +111,8 @@ LoadedModule load_module() {
         std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
         if (!ec) candidates.push_back((exe.parent_path() / kModuleName).string());
 #ifdef STERADIAN_OIIO_MODULE_PATH
-        candidates.push_back(STERADIAN_OIIO_MODULE_PATH);
+        if (candidates.empty() || candidates.back() != STERADIAN_OIIO_MODULE_PATH)
+            candidates.push_back(STERADIAN_OIIO_MODULE_PATH);
 #endif
     }
     LoadedModule m;
@@ -146,7 +147,7 @@ const SrOiioModule& openimageio(const std::string& path, bool reading) {
     if (!module.api)
         throw Error(fmt::format(
             "{}: {} through OpenImageIO, whose module ({}) could not be loaded: {}", path,
-            reading ? "cannot read image: images other than PFM and plain EXR and PNG are read"
+            reading ? "cannot read image: images other than PFM and plain EXR, PNG and JPEG are read"
                     : fmt::format("the image format \"{}\" is written", extension(path)),
             kModuleName, module.error));
     return *module.api;
@@ -253,7 +254,7 @@ Image read_image(const std::string& path, bool srgb_decode) {
     if (!std::filesystem::exists(path)) throw Error(fmt::format("{}: file not found", path));
     check_regular_file(path, kMaxSceneFileBytes, "image");
     if (extension(path) == ".pfm") return read_pfm(path);
-    // EXR and PNG by their content (as OpenImageIO, which also reads a PNG named .jpg);
+    // EXR, PNG and JPEG by their content (as OpenImageIO, which also reads a PNG named .jpg);
     // layouts the direct readers leave alone and every other format go to OpenImageIO.
     if (!g_force_openimageio) {
         if (image_formats::is_exr_file(path)) {
@@ -262,6 +263,11 @@ Image read_image(const std::string& path, bool srgb_decode) {
             if (std::optional<Image> img = image_formats::read_png(path)) {
                 // OpenImageIO 2.4 named a PNG of gamma 1.0 "linear" (lower case), which the
                 // check for "Linear" never matched: every PNG was decoded. Kept so.
+                if (srgb_decode) decode_srgb(*img);
+                return std::move(*img);
+            }
+        } else if (image_formats::is_jpeg_file(path)) {
+            if (std::optional<Image> img = image_formats::read_jpeg(path)) {
                 if (srgb_decode) decode_srgb(*img);
                 return std::move(*img);
             }

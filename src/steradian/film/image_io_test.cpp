@@ -7,6 +7,9 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <gtest/gtest.h>
 #include <png.h>
+// jpeglib.h needs FILE and size_t declared first.
+#include <cstdio>
+#include <jpeglib.h>
 
 #include <unistd.h>
 
@@ -544,6 +547,72 @@ TEST_F(ImageIo, PngDirectAndOpenImageIoAgree) {
     Image p = read_image(path("pal.png"), false);
     ASSERT_EQ(p.channels, 3);
     EXPECT_EQ(p.at(1, 0, 1), 128 * (1.0f / 255));
+}
+
+/// Writes a JPEG with libjpeg: `components` 1 (grey), 3 (RGB, stored as YCbCr with 2x2
+/// chroma subsampling) or 4 (CMYK), baseline or progressive, a smooth pattern.
+void write_test_jpeg(const std::string& p, int w, int h, int components, bool progressive) {
+    std::FILE* f = std::fopen(p.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    jpeg_compress_struct cinfo;
+    jpeg_error_mgr err;
+    cinfo.err = jpeg_std_error(&err);
+    jpeg_create_compress(&cinfo);
+    jpeg_stdio_dest(&cinfo, f);
+    cinfo.image_width = JDIMENSION(w);
+    cinfo.image_height = JDIMENSION(h);
+    cinfo.input_components = components;
+    cinfo.in_color_space = components == 1 ? JCS_GRAYSCALE : components == 3 ? JCS_RGB : JCS_CMYK;
+    jpeg_set_defaults(&cinfo);
+    jpeg_set_quality(&cinfo, 90, TRUE);
+    if (progressive) jpeg_simple_progression(&cinfo);
+    jpeg_start_compress(&cinfo, TRUE);
+    std::vector<JSAMPLE> row(size_t(w) * size_t(components));
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < components; ++c)
+                row[size_t(x) * components + c] = JSAMPLE((x * 13 + y * 7 + c * 50 + (x * y) % 17) % 256);
+        JSAMPROW r = row.data();
+        jpeg_write_scanlines(&cinfo, &r, 1);
+    }
+    jpeg_finish_compress(&cinfo);
+    jpeg_destroy_compress(&cinfo);
+    ASSERT_EQ(std::fclose(f), 0);
+}
+
+TEST_F(ImageIo, JpegDirectAndOpenImageIoAgree) {
+    // JPEG is read with libjpeg and written through OpenImageIO: the decoded codes must be
+    // those OpenImageIO decoded, for every kind of file (CMYK is left to OpenImageIO).
+    Image img = make_image(37, 21);
+    for (int y = 0; y < 21; ++y)
+        for (int x = 0; x < 37; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = float((x * 7 + y * 3 + c * 40) % 100) / 100;
+    write_image(path("oiio.jpg"), img);
+    write_test_jpeg(path("rgb.jpg"), 37, 21, 3, false);
+    write_test_jpeg(path("rgb-progressive.jpg"), 37, 21, 3, true);
+    write_test_jpeg(path("grey.jpg"), 37, 21, 1, false);
+    write_test_jpeg(path("cmyk.jpg"), 37, 21, 4, false);
+    for (const char* name : {"oiio", "rgb", "rgb-progressive", "grey", "cmyk"}) {
+        SCOPED_TRACE(name);
+        Image r = read_both_ways(path(std::string(name) + ".jpg"));
+        EXPECT_EQ(r.width, 37);
+        EXPECT_EQ(r.channels, std::string(name) == "grey" ? 1 : 3);
+    }
+    // A JPEG cut short is an error naming the file (libjpeg's complaint), not a crash.
+    {
+        std::ifstream in(path("rgb.jpg"), std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::ofstream out(path("cut.jpg"), std::ios::binary);
+        out.write(bytes.data(), 100);
+    }
+    try {
+        Image cut = read_image(path("cut.jpg"));
+        // libjpeg pads a truncated entropy-coded segment with grey (with a warning); the
+        // header must be complete for that, which 100 bytes of this file are not.
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("cut.jpg"), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(ImageIo, PngErrorsNameTheFile) {
