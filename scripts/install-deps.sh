@@ -10,7 +10,7 @@ packages=(
   libtbb-dev             # oneTBB: parallel tiles
   libopenexr-dev         # OpenEXR 3: .exr read and written directly (film/image_exr.cpp)
   libpng-dev             # libpng 1.6: .png read and written directly (film/image_png.cpp)
-  libjpeg-dev            # libjpeg(-turbo): .jpg read directly (film/image_jpeg.cpp)
+  libjpeg-dev            # libjpeg-turbo: .jpg read directly (film/image_jpeg.cpp)
   libopenimageio-dev     # every other image format (TIFF, JPEG, HDR, ...), through the
                          # module steradian_oiio.so loaded only when such a file is used
   openimageio-tools      # oiiotool, for inspecting renders
