@@ -3,7 +3,7 @@
 /// image_io.cpp loads with dlopen the first time an image format it does not handle itself
 /// is read or written. OpenImageIO depends on some 260 shared libraries whose loading costs
 /// a process start 0.3 CPU-s and 130 MB; a process that reads and writes only EXR, PNG and
-/// PFM never loads it.
+/// PFM (and reads JPEG) never loads it.
 ///
 /// Plain C types only: the module and the program agree on nothing but this table.
 /// Functions that can fail return 0 and put a message (without the file name) in `err`.
