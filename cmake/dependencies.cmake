@@ -1,6 +1,14 @@
 # Every dependency is a Debian package (scripts/install-deps.sh installs them).
 find_package(embree 3 REQUIRED)
 find_package(TBB REQUIRED)
+# EXR and PNG read and written, JPEG read, directly (film/image_exr.cpp, image_png.cpp,
+# image_jpeg.cpp): these libraries cost a process start a few milliseconds.
+find_package(OpenEXR 3 REQUIRED)
+find_package(PNG REQUIRED)
+find_package(JPEG REQUIRED)
+# Every other image format goes through OpenImageIO, linked only into the module
+# steradian_oiio.so that film/image_io.cpp loads with dlopen on first use: OpenImageIO pulls in
+# some 260 shared libraries (0.3 CPU-s and 130 MB at every process start when linked).
 # Debian's OpenImageIO CMake config lists /usr/include/opencv4 as an include directory
 # (OpenCV is an optional dependency not installed here), so we locate the library directly.
 find_path(OIIO_INCLUDE_DIR OpenImageIO/imageio.h REQUIRED)

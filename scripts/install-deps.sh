@@ -8,9 +8,12 @@ packages=(
   python3                # scripts/check_layers.py and check_doc_examples.py (ctest)
   libembree-dev          # Embree 3: all ray queries
   libtbb-dev             # oneTBB: parallel tiles
-  libopenimageio-dev     # image I/O (EXR, PNG, ...) and textures
+  libopenexr-dev         # OpenEXR 3: .exr read and written directly (film/image_exr.cpp)
+  libpng-dev             # libpng 1.6: .png read and written directly (film/image_png.cpp)
+  libjpeg-dev            # libjpeg-turbo: .jpg read directly (film/image_jpeg.cpp)
+  libopenimageio-dev     # every other image format (TIFF, JPEG, HDR, ...), through the
+                         # module steradian_oiio.so loaded only when such a file is used
   openimageio-tools      # oiiotool, for inspecting renders
-  libopenexr-dev
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )

@@ -430,5 +430,19 @@ for i in 1 2 3 4 5 6; do
 done
 check "concurrent writers never leave a mixed file" test $mixed -eq 0
 
+# OpenImageIO is a module loaded for other formats only: without it, EXR, PNG and PFM
+# still work, and a TIFF output is refused before rendering with the reason.
+for ext in exr png pfm; do
+  STERADIAN_OIIO_MODULE=/nonexistent/steradian_oiio.so "$bin" render "$tmp/small.pbrt" \
+    -o "$tmp/nomodule.$ext" --quiet
+  check "without the OpenImageIO module: .$ext written" test $? -eq 0 -a -s "$tmp/nomodule.$ext"
+done
+STERADIAN_OIIO_MODULE=/nonexistent/steradian_oiio.so "$bin" render "$tmp/small.pbrt" \
+  -o "$tmp/nomodule.tif" --quiet > "$tmp/nomodule.txt" 2>&1
+check "without the OpenImageIO module: .tif refused" test $? -eq 1 -a ! -e "$tmp/nomodule.tif"
+check "without the OpenImageIO module: the reason is given" grep -q "nomodule.tif: .*OpenImageIO.*could not be loaded" "$tmp/nomodule.txt"
+"$bin" render "$tmp/small.pbrt" -o "$tmp/with-module.tif" --quiet
+check "with the OpenImageIO module: .tif written" test $? -eq 0 -a -s "$tmp/with-module.tif"
+
 echo "cli: $pass passed, $fail failed"
 test "$fail" -eq 0

@@ -1,6 +1,8 @@
 #pragma once
-/// Image files: EXR (linear float, through OpenImageIO), PFM (our own writer/reader), PNG
-/// and other 8-bit formats (sRGB-encoded) through OpenImageIO.
+/// Image files: EXR (linear float, through OpenEXR), PFM (our own writer/reader), PNG (8-bit
+/// sRGB-encoded, through libpng), JPEG reading (libjpeg), and every other format OpenImageIO
+/// knows (TIFF, HDR, ...) through OpenImageIO, which is loaded as a module on first use
+/// (oiio_module.h).
 #include <cstdint>
 #include <string>
 #include <vector>
