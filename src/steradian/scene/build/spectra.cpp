@@ -15,12 +15,20 @@ using build_detail::resolve_path;
 
 /// Reads a two-column (wavelength, value) text file.
 std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& loc) {
-    std::istringstream f;
+    std::string text;
     try {
-        f.str(read_regular_file(path, kMaxSmallFileBytes, "spectrum file"));
+        text = read_regular_file(path, kMaxSmallFileBytes, "spectrum file");
     } catch (const Error& e) {
         throw Error(loc, e.what());
     }
+    return parse_spectrum_file(text, path, loc);
+}
+
+}  // namespace
+
+std::vector<Float> parse_spectrum_file(std::string_view text, const std::string& path,
+                                       const SourceLoc& loc) {
+    std::istringstream f{std::string(text)};
     std::vector<Float> v;
     std::string line;
     int line_no = 0;
@@ -44,8 +52,6 @@ std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& 
     if (v.size() < 4) throw_error(loc, "spectrum file \"{}\" has fewer than two samples", path);
     return v;
 }
-
-}  // namespace
 
 Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::string& base_dir) {
     switch (p.type) {
