@@ -1,7 +1,7 @@
 // Feeds arbitrary bytes to the pbrt reader and, when it accepts them, builds the scene
 // (parse_pbrt_string + build_scene: parameters, materials, textures, lights, meshes and the
 // Embree structure; nothing is rendered). An accepted scene must have finite bounds, camera
-// rays, light powers and film factors.
+// rays, light powers and selection probabilities, and film factors.
 #include "fuzz_target.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
@@ -46,7 +46,11 @@ void check_scene(const sr::Scene& s) {
     check_finite(s.film.imaging_ratio, "film imaging ratio");
     for (const auto& row : s.film.rgb_from_sensor)
         for (sr::Float x : row) check_finite(x, "film colour matrix");
-    for (const sr::Light& l : s.lights) check_finite(sr::light_phi_y(l), "light power");
+    for (size_t i = 0; i < s.lights.size(); ++i) {
+        check_finite(sr::light_phi_y(s.lights[i]), "light power");
+        if (!s.light_sampler.empty())
+            check_finite(s.light_sampler.pmf(int(i)), "light selection probability");
+    }
 }
 
 }  // namespace
