@@ -1,8 +1,9 @@
 // Feeds arbitrary bytes to the EULUMDAT reader (parse_eulumdat,
 // lights/photometric/eulumdat.h) as the text of an .ldt file, and checks that an accepted
 // file gives finite intensities and flux.
-#include "photometric_common.h"
 #include "steradian/lights/photometric/eulumdat.h"
+
+#include "photometric_common.h"
 
 STERADIAN_FUZZ_TARGET(eulumdat) {
     const std::string name = "fuzz.ldt";

@@ -58,21 +58,21 @@ inline void check_finite(double x, const char* what) { fuzz_check(std::isfinite(
 #ifdef STERADIAN_LIBFUZZER
 // Warnings are silenced: printing them would slow the fuzzer, and the set that prints each
 // only once would grow with every new message.
-#define STERADIAN_FUZZ_TARGET(name)                                                   \
-    extern "C" int LLVMFuzzerInitialize(int*, char***) {                              \
-        sr::set_warnings_quiet(true);                                                 \
-        return 0;                                                                     \
-    }                                                                                 \
-    static void fuzz_body_##name(std::string_view input);                             \
-    extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {         \
+#define STERADIAN_FUZZ_TARGET(name)                                                    \
+    extern "C" int LLVMFuzzerInitialize(int*, char***) {                               \
+        sr::set_warnings_quiet(true);                                                  \
+        return 0;                                                                      \
+    }                                                                                  \
+    static void fuzz_body_##name(std::string_view input);                              \
+    extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {          \
         fuzz_body_##name(std::string_view(reinterpret_cast<const char*>(data), size)); \
-        return 0;                                                                     \
-    }                                                                                 \
+        return 0;                                                                      \
+    }                                                                                  \
     static void fuzz_body_##name(std::string_view input)
 #else
-#define STERADIAN_FUZZ_TARGET(name)                                                  \
-    static void fuzz_body_##name(std::string_view input);                            \
-    [[maybe_unused]] static const bool fuzz_registered_##name =                      \
-        ::sr::fuzz::register_target(#name, fuzz_body_##name);                        \
+#define STERADIAN_FUZZ_TARGET(name)                             \
+    static void fuzz_body_##name(std::string_view input);       \
+    [[maybe_unused]] static const bool fuzz_registered_##name = \
+        ::sr::fuzz::register_target(#name, fuzz_body_##name);   \
     static void fuzz_body_##name(std::string_view input)
 #endif

@@ -1,8 +1,9 @@
 // Feeds arbitrary bytes to the IES LM-63 reader (parse_ies,
 // lights/photometric/ies.h) as the text of an .ies file, and checks that an accepted file
 // gives finite intensities, flux and tilt factors.
-#include "photometric_common.h"
 #include "steradian/lights/photometric/ies.h"
+
+#include "photometric_common.h"
 
 STERADIAN_FUZZ_TARGET(ies) {
     // TILT=<file> resolves beside the input's name: a directory of the project's test data.

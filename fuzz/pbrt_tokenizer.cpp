@@ -15,13 +15,18 @@ STERADIAN_FUZZ_TARGET(pbrt_tokenizer) {
             fuzz_check(t.line >= last_line && t.column >= 1, "token position goes backwards");
             last_line = t.line;
             switch (t.kind) {
-                case pbrt::TokenKind::LBracket: fuzz_check(t.text == "[", "'[' token"); break;
-                case pbrt::TokenKind::RBracket: fuzz_check(t.text == "]", "']' token"); break;
+                case pbrt::TokenKind::LBracket:
+                    fuzz_check(t.text == "[", "'[' token");
+                    break;
+                case pbrt::TokenKind::RBracket:
+                    fuzz_check(t.text == "]", "']' token");
+                    break;
                 case pbrt::TokenKind::Number:
                 case pbrt::TokenKind::Identifier:
                     fuzz_check(!t.text.empty(), "empty bare word");
                     break;
-                case pbrt::TokenKind::String: break;
+                case pbrt::TokenKind::String:
+                    break;
             }
         }
     } catch (const Error& e) {

@@ -1,7 +1,8 @@
 // Feeds arbitrary bytes to the PLY reader (parse_ply, scene/mesh_io/ply.h) as a whole .ply
 // file, ASCII or binary (the seeds have both); an accepted mesh must satisfy validate().
-#include "fuzz_target.h"
 #include "steradian/scene/mesh_io/ply.h"
+
+#include "fuzz_target.h"
 
 STERADIAN_FUZZ_TARGET(ply) {
     const std::string name = "fuzz.ply";
@@ -9,7 +10,7 @@ STERADIAN_FUZZ_TARGET(ply) {
         sr::TriangleMeshData mesh = sr::parse_ply(input, name);
         try {
             sr::validate(mesh, name);
-        } catch (const sr::Error& e) {
+        } catch (const sr::Error&) {
             sr::fuzz::fuzz_check(false, "parse_ply returned a mesh that validate() rejects");
         }
     } catch (const sr::Error& e) {

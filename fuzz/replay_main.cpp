@@ -67,7 +67,8 @@ int main(int argc, char** argv) {
             std::sort(inputs.begin(), inputs.end());
             for (const fs::path& in : inputs) {
                 std::ifstream f(in, std::ios::binary);
-                std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+                std::string bytes((std::istreambuf_iterator<char>(f)),
+                                  std::istreambuf_iterator<char>());
                 std::fprintf(stderr, "%s %s\n", it->first.c_str(), in.string().c_str());
                 it->second(bytes);
                 ++files;

@@ -14,7 +14,8 @@ void Builder::build_lights(Scene& s) {
     auto check_power = [&](size_t first, const SourceLoc& loc) {
         for (size_t k = first; k < s.lights.size(); ++k)
             if (!std::isfinite(light_phi_y(s.lights[k])))
-                throw_error(loc, "the light's emitted power overflows a 32-bit float: its "
+                throw_error(loc,
+                            "the light's emitted power overflows a 32-bit float: its "
                             "intensity, scale, power or size is too large");
     };
     for (size_t i = 0; i < m_d.lights.size(); ++i) {
