@@ -13,6 +13,10 @@ namespace {
 
 using build_detail::resolve_path;
 
+/// The largest magnitude of a tabulated spectrum value: interpolation computes
+/// v1 + t (v2 - v1), and v2 - v1 must not overflow a float (FLT_MAX is 3.4e38).
+constexpr double kMaxSpectrumValue = 1e38;
+
 /// Reads a two-column (wavelength, value) text file.
 std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& loc) {
     std::string text;
@@ -43,6 +47,9 @@ std::vector<Float> parse_spectrum_file(std::string_view text, const std::string&
         if (!std::isfinite(Float(a)) || !std::isfinite(Float(b)))
             throw_error(loc, "{}:{}: the wavelength and value must be finite floats", path,
                         line_no);
+        if (!(std::abs(b) <= kMaxSpectrumValue))
+            throw_error(loc, "{}:{}: the value {:g} is outside +-{:g}", path, line_no, b,
+                        kMaxSpectrumValue);
         if (!v.empty() && !(Float(a) > v[v.size() - 2]))
             throw_error(loc, "{}:{}: wavelengths must increase ({} nm after {} nm)", path, line_no,
                         a, v[v.size() - 2]);
@@ -103,6 +110,10 @@ Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::strin
                 if (!std::isfinite(x))
                     throw_error(p.loc, "\"spectrum {}\": every wavelength and value must be a "
                                 "finite float, got {}", p.name, x);
+            for (size_t i = 1; i < pairs.size(); i += 2)
+                if (!(std::abs(pairs[i]) <= kMaxSpectrumValue))
+                    throw_error(p.loc, "\"spectrum {}\": the value {:g} is outside +-{:g}", p.name,
+                                pairs[i], kMaxSpectrumValue);
             for (size_t i = 2; i < pairs.size(); i += 2)
                 if (!(pairs[i] > pairs[i - 2]))
                     throw_error(p.loc, "\"spectrum {}\": wavelengths must increase", p.name);

@@ -1,0 +1,55 @@
+// Scene values that overflow the renderer's 32-bit floats are errors at their directive or
+// parameter, not infinities or NaNs in the image (found by the fuzzing harnesses, fuzz/).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "steradian/scene/build.h"
+#include "steradian/scene/pbrt/parser.h"
+
+namespace sr {
+namespace {
+
+std::string build_error(const std::string& world) {
+    std::string text = R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [4] "integer yresolution" [4]
+WorldBegin
+)" + world;
+    try {
+        build_scene(parse_pbrt_string(text, "overflow.pbrt"));
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+TEST(SceneOverflow, LightPowerBeyondFloatIsAnError) {
+    EXPECT_EQ(build_error(R"(LightSource "point" "rgb I" [3e38 3e38 3e38] "float scale" [3e38]
+Shape "sphere")"),
+              "overflow.pbrt:5:1: the light's emitted power overflows a 32-bit float: its "
+              "intensity, scale, power or size is too large");
+    // An area light's power is per emitting primitive, over its area.
+    EXPECT_NE(build_error(R"(AreaLightSource "diffuse" "rgb L" [1 1 1] "float power" [3e38]
+Shape "sphere" "float radius" [1e-20])")
+                  .find("overflow.pbrt:5:1: the light's emitted power overflows"),
+              std::string::npos);
+}
+
+TEST(SceneOverflow, SpectrumValuesWhoseDifferenceOverflowsAreErrors) {
+    // Interpolating between 1e38 and -3e38 computed -4e38: -inf, then NaN.
+    EXPECT_EQ(build_error(R"(Material "conductor" "spectrum eta" [360 1 830 1]
+    "spectrum k" [360 1e38 830 -3e38]
+Shape "sphere")"),
+              "overflow.pbrt:6:5: \"spectrum k\": the value -3e+38 is outside +-1e+38");
+    std::string msg = "(no error)";
+    try {
+        parse_spectrum_file("360 1\n500 2\n830 -3e38\n", "k.spd", {"s.pbrt", 1, 1});
+    } catch (const Error& e) {
+        msg = e.what();
+    }
+    EXPECT_EQ(msg, "s.pbrt:1:1: k.spd:3: the value -3e+38 is outside +-1e+38");
+}
+
+}  // namespace
+}  // namespace sr
