@@ -1,5 +1,6 @@
-// Scene values that overflow the renderer's 32-bit floats are errors at their directive or
-// parameter, not infinities or NaNs in the image (found by the fuzzing harnesses, fuzz/).
+// Scene values that overflow the renderer's 32-bit floats, or that would allocate without
+// bound, are errors at their directive or parameter, not infinities or NaNs in the image nor
+// gigabytes of memory (found with the fuzzing harnesses of fuzz/).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -24,7 +25,7 @@ WorldBegin
     return "(no error)";
 }
 
-TEST(SceneOverflow, LightPowerBeyondFloatIsAnError) {
+TEST(SceneInputLimits, LightPowerBeyondFloatIsAnError) {
     EXPECT_EQ(build_error(R"(LightSource "point" "rgb I" [3e38 3e38 3e38] "float scale" [3e38]
 Shape "sphere")"),
               "overflow.pbrt:5:1: the light's emitted power overflows a 32-bit float: its "
@@ -36,7 +37,7 @@ Shape "sphere" "float radius" [1e-20])")
               std::string::npos);
 }
 
-TEST(SceneOverflow, SpectrumValuesWhoseDifferenceOverflowsAreErrors) {
+TEST(SceneInputLimits, SpectrumValuesWhoseDifferenceOverflowsAreErrors) {
     // Interpolating between 1e38 and -3e38 computed -4e38: -inf, then NaN.
     EXPECT_EQ(build_error(R"(Material "conductor" "spectrum eta" [360 1 830 1]
     "spectrum k" [360 1e38 830 -3e38]
@@ -49,6 +50,16 @@ Shape "sphere")"),
         msg = e.what();
     }
     EXPECT_EQ(msg, "s.pbrt:1:1: k.spd:3: the value -3e+38 is outside +-1e+38");
+}
+
+TEST(SceneInputLimits, MeterGridHasAtMostAMillionCells) {
+    const std::string grid = R"(LightSource "point" "rgb I" [1 1 1]
+Meter "illuminancegrid" "point3 corner" [0 0 0] "vector3 u" [1 0 0] "vector3 v" [0 1 0]
+    "integer resolution" )";
+    EXPECT_EQ(build_error(grid + "[10000 10000]"),
+              "overflow.pbrt:7:5: Meter \"illuminancegrid\": \"resolution\" [10000 10000] has "
+              "more than 1048576 cells");
+    EXPECT_EQ(build_error(grid + "[1024 1024]"), "(no error)");
 }
 
 }  // namespace
