@@ -18,7 +18,7 @@ Film "rgb" "integer xresolution" [4] "integer yresolution" [4]
 WorldBegin
 )" + world;
     try {
-        build_scene(parse_pbrt_string(text, "overflow.pbrt"));
+        build_scene(parse_pbrt_string(text, "limits.pbrt"));
     } catch (const Error& e) {
         return e.what();
     }
@@ -28,12 +28,12 @@ WorldBegin
 TEST(SceneInputLimits, LightPowerBeyondFloatIsAnError) {
     EXPECT_EQ(build_error(R"(LightSource "point" "rgb I" [3e38 3e38 3e38] "float scale" [3e38]
 Shape "sphere")"),
-              "overflow.pbrt:5:1: the light's emitted power overflows a 32-bit float: its "
+              "limits.pbrt:5:1: the light's emitted power overflows a 32-bit float: its "
               "intensity, scale, power or size is too large");
     // An area light's power is per emitting primitive, over its area.
     EXPECT_NE(build_error(R"(AreaLightSource "diffuse" "rgb L" [1 1 1] "float power" [3e38]
 Shape "sphere" "float radius" [1e-20])")
-                  .find("overflow.pbrt:5:1: the light's emitted power overflows"),
+                  .find("limits.pbrt:5:1: the light's emitted power overflows"),
               std::string::npos);
 }
 
@@ -42,7 +42,7 @@ TEST(SceneInputLimits, SpectrumValuesWhoseDifferenceOverflowsAreErrors) {
     EXPECT_EQ(build_error(R"(Material "conductor" "spectrum eta" [360 1 830 1]
     "spectrum k" [360 1e38 830 -3e38]
 Shape "sphere")"),
-              "overflow.pbrt:6:5: \"spectrum k\": the value -3e+38 is outside +-1e+38");
+              "limits.pbrt:6:5: \"spectrum k\": the value -3e+38 is outside +-1e+38");
     std::string msg = "(no error)";
     try {
         parse_spectrum_file("360 1\n500 2\n830 -3e38\n", "k.spd", {"s.pbrt", 1, 1});
@@ -57,9 +57,18 @@ TEST(SceneInputLimits, MeterGridHasAtMostAMillionCells) {
 Meter "illuminancegrid" "point3 corner" [0 0 0] "vector3 u" [1 0 0] "vector3 v" [0 1 0]
     "integer resolution" )";
     EXPECT_EQ(build_error(grid + "[10000 10000]"),
-              "overflow.pbrt:7:5: Meter \"illuminancegrid\": \"resolution\" [10000 10000] has "
+              "limits.pbrt:7:5: Meter \"illuminancegrid\": \"resolution\" [10000 10000] has "
               "more than 1048576 cells");
     EXPECT_EQ(build_error(grid + "[1024 1024]"), "(no error)");
+}
+
+TEST(SceneInputLimits, BilinearMeshNeedsOneNormalAndUvPerVertex) {
+    // The tessellation of a non-planar patch read N and uv by vertex index, past their end.
+    const std::string mesh = R"(Shape "bilinearmesh" "point3 P" [0 0 0  1 0 0  0 1 0  1 1 1] )";
+    EXPECT_EQ(build_error(mesh + R"("normal N" [0 0 1  0 0 1])"),
+              "limits.pbrt:5:1: Shape \"bilinearmesh\": 2 normals for 4 vertices");
+    EXPECT_EQ(build_error(mesh + R"("point2 uv" [0 0])"),
+              "limits.pbrt:5:1: Shape \"bilinearmesh\": 1 uvs for 4 vertices");
 }
 
 }  // namespace
