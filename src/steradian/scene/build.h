@@ -26,7 +26,8 @@ Scene build_scene(const SceneDesc& desc, const BuildOptions& options = {});
 Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::string& base_dir);
 
 /// The samples of a spectrum file's text: one "wavelength value" pair per line (nm; `#`
-/// starts a comment), wavelengths increasing, at least two pairs; returned interleaved
+/// starts a comment; blank lines are skipped, any other text is an error), wavelengths
+/// increasing, at least two pairs; returned interleaved
 /// (w0, v0, w1, v1, ...). Throws sr::Error at `loc` (the parameter naming the file) with
 /// "path:line: " before the message.
 std::vector<Float> parse_spectrum_file(std::string_view text, const std::string& path,

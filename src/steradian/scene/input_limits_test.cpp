@@ -62,6 +62,27 @@ Meter "illuminancegrid" "point3 corner" [0 0 0] "vector3 u" [1 0 0] "vector3 v" 
     EXPECT_EQ(build_error(grid + "[1024 1024]"), "(no error)");
 }
 
+TEST(SceneInputLimits, SpectrumFileLinesHoldExactlyTwoNumbers) {
+    auto error = [](const std::string& text) -> std::string {
+        try {
+            parse_spectrum_file(text, "s.spd", {"s.pbrt", 1, 1});
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    EXPECT_EQ(error("# header\n\n360 1 # a\r\n \t\n830 2\r\n"), "(no error)");
+    // Each of these was skipped or cut short without a word.
+    EXPECT_EQ(error("360 1\nwavelength value\n830 2\n"),
+              "s.pbrt:1:1: s.spd:2: expected \"wavelength value\" (two numbers), got "
+              "\"wavelength value\"");
+    EXPECT_EQ(error("360 1\n1e400 3\n830 2\n"),
+              "s.pbrt:1:1: s.spd:2: expected \"wavelength value\" (two numbers), got \"1e400 3\"");
+    EXPECT_EQ(error("360 1 400 2\n830 2\n"),
+              "s.pbrt:1:1: s.spd:1: expected \"wavelength value\" (two numbers), got "
+              "\"360 1 400 2\"");
+}
+
 TEST(SceneInputLimits, BilinearMeshNeedsOneNormalAndUvPerVertex) {
     // The tessellation of a non-planar patch read N and uv by vertex index, past their end.
     const std::string mesh = R"(Shape "bilinearmesh" "point3 P" [0 0 0  1 0 0  0 1 0  1 1 1] )";

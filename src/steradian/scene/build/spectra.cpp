@@ -40,10 +40,15 @@ std::vector<Float> parse_spectrum_file(std::string_view text, const std::string&
         ++line_no;
         auto hash = line.find('#');
         if (hash != std::string::npos) line.resize(hash);
+        if (line.find_first_not_of(" \t\r\f\v") == std::string::npos) continue;
+        // Exactly two numbers: a line of text, a third number or a number beyond double range
+        // was skipped or dropped silently before.
         std::istringstream ss(line);
         double a, b;
-        if (!(ss >> a)) continue;
-        if (!(ss >> b)) throw_error(loc, "{}:{}: expected \"wavelength value\"", path, line_no);
+        std::string extra;
+        if (!(ss >> a) || !(ss >> b) || (ss >> extra))
+            throw_error(loc, "{}:{}: expected \"wavelength value\" (two numbers), got \"{}\"", path,
+                        line_no, printable(line));
         if (!std::isfinite(Float(a)) || !std::isfinite(Float(b)))
             throw_error(loc, "{}:{}: the wavelength and value must be finite floats", path,
                         line_no);
@@ -96,7 +101,8 @@ Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::strin
                     throw_error(p.loc, "\"spectrum {}\" expects one name or file", p.name);
                 if (auto s = named_spectrum(p.strings[0])) return *s;
                 std::string path = resolve_path(base_dir, p.strings[0]);
-                if (!std::filesystem::exists(path))
+                std::error_code ec;  // (a name too long for the system throws without it)
+                if (!std::filesystem::exists(path, ec))
                     throw_error(p.loc, "\"{}\" is neither a named spectrum nor a file",
                                 p.strings[0]);
                 auto pairs = read_spectrum_file(path, p.loc);
