@@ -16,6 +16,8 @@ packages=(
   openimageio-tools      # oiiotool, for inspecting renders
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizers (preset fuzz)
+  llvm-14                      # llvm-symbolizer: source lines in the fuzzers' stack traces
 )
 
 SUDO=""

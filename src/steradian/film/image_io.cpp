@@ -251,7 +251,8 @@ void write_image(const std::string& path, const Image& img, const WriteOptions& 
 }
 
 Image read_image(const std::string& path, bool srgb_decode) {
-    if (!std::filesystem::exists(path)) throw Error(fmt::format("{}: file not found", path));
+    std::error_code ec;  // without it, a file name too long for the system throws
+    if (!std::filesystem::exists(path, ec)) throw Error(fmt::format("{}: file not found", path));
     check_regular_file(path, kMaxSceneFileBytes, "image");
     if (extension(path) == ".pfm") return read_pfm(path);
     // EXR, PNG and JPEG by their content (as OpenImageIO, which also reads a PNG named .jpg);

@@ -156,7 +156,12 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
     Vec3 wi = d / std::sqrt(dist2);
     SampledSpectrum L = l(ss.n, -wi, lambda);
     if (L.is_zero()) return r;
+#if defined(__clang__) && __clang_major__ < 16
+    // Clang before 16 lacks C++20's parenthesized aggregate initialisation (P0960).
+    r = LightLiSample{L, wi, ss.pdf, ss.p, ss.p_error, ss.n};
+#else
     r.emplace(L, wi, ss.pdf, ss.p, ss.p_error, ss.n);
+#endif
     return r;
 }
 

@@ -5,6 +5,7 @@
 /// normalisation of lights), reads meshes, and builds the acceleration structure. The
 /// builder's stages are in scene/build/, one file for each kind of thing built.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "steradian/scene/desc.h"
@@ -23,6 +24,14 @@ Scene build_scene(const SceneDesc& desc, const BuildOptions& options = {});
 /// The spectrum of a parameter (rgb, spectrum pairs or name/file, blackbody) interpreted as
 /// `kind` (albedo, unbounded or illuminant). Throws sr::Error at the parameter.
 Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::string& base_dir);
+
+/// The samples of a spectrum file's text: one "wavelength value" pair per line (nm; `#`
+/// starts a comment; blank lines are skipped, any other text is an error), wavelengths
+/// increasing, at least two pairs; returned interleaved
+/// (w0, v0, w1, v1, ...). Throws sr::Error at `loc` (the parameter naming the file) with
+/// "path:line: " before the message.
+std::vector<Float> parse_spectrum_file(std::string_view text, const std::string& path,
+                                       const SourceLoc& loc);
 
 /// Meters from the scene description, in the order of their directives. Every parameter
 /// problem is an sr::Error at its file:line:col.

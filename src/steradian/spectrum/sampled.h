@@ -36,7 +36,13 @@ struct SampledSpectrum {
     explicit SampledSpectrum(const std::array<Float, kSpectrumSamples>& values)
         : v{values[0], values[1], values[2], values[3]} {}
     Float operator[](int i) const { return v[i]; }
+#if defined(__clang__)
+    // Clang cannot bind a reference to a vector element; its alias analysis treats vector
+    // types as aliasing everything, so the element is reached through a Float pointer.
+    Float& operator[](int i) { return reinterpret_cast<Float*>(&v)[i]; }
+#else
     Float& operator[](int i) { return v[i]; }
+#endif
 
 #define SR_SS_OP(op)                                                                   \
     SampledSpectrum operator op(const SampledSpectrum& o) const {                      \

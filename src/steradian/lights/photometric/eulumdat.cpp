@@ -299,9 +299,16 @@ PhotometricData parse_eulumdat(std::string_view text, const std::string& name) {
         for (long k = 0; k < ng; ++k) {
             const size_t line = i_first + p * static_cast<uint64_t>(ng) + static_cast<uint64_t>(k);
             double a = stored_angle[p] < 0 ? stored_angle[p] + 360 : stored_angle[p];
-            stored[p][static_cast<size_t>(k)] =
-                f.non_negative(line, fmt::format("the luminous intensity (cd/klm) at C {} gamma {}",
-                                                 a, d.vertical_angles[static_cast<size_t>(k)]));
+            const std::string what = fmt::format("the luminous intensity (cd/klm) at C {} gamma {}",
+                                                 a, d.vertical_angles[static_cast<size_t>(k)]);
+            const double v = f.non_negative(line, what);
+            if (!(v * d.candela_multiplier <= kMaxCandela)) {
+                throw_error(f.loc(line),
+                            "{} times the conversion factor and the lamp flux / 1000 is {:g} "
+                            "cd, more than the {:g} cd accepted",
+                            what, v * d.candela_multiplier, kMaxCandela);
+            }
+            stored[p][static_cast<size_t>(k)] = v;
         }
     }
     for (size_t line = end; line <= f.count(); ++line) {

@@ -466,6 +466,12 @@ PhotometricData parse_ies(std::string_view text, const std::string& name) {
                 throw_error(ts.loc(*t), "expected {} to be non-negative, found {}", what,
                             quoted(t->text));
             }
+            if (!(cd * scale <= kMaxCandela)) {
+                throw_error(ts.loc(*t),
+                            "{} times the candela multiplier and ballast factors is {:g} cd, "
+                            "more than the {:g} cd accepted",
+                            what, cd * scale, kMaxCandela);
+            }
             d.candela[static_cast<size_t>(ih)][static_cast<size_t>(iv)] = cd * scale;
         }
     }

@@ -6,6 +6,12 @@
 
 namespace sr::photometric_detail {
 
+/// The largest luminous intensity (cd) a file may give once its multipliers are applied.
+/// The renderer holds intensities and the total flux (at most 4 pi times the largest
+/// intensity) in 32-bit floats: 1e36 cd keeps both finite (FLT_MAX is 3.4e38), and is
+/// still 27 orders of magnitude above the brightest lamps.
+inline constexpr double kMaxCandela = 1e36;
+
 /// Splits text into lines at "\r\n", "\n" or "\r"; drops a leading UTF-8 byte order mark.
 /// A final line break does not start an extra empty line. Views point into `text`.
 std::vector<std::string_view> split_lines(std::string_view text);

@@ -1,4 +1,6 @@
 /// Light sources (point, spot, distant, infinite) and the area lights of shapes.
+#include <cmath>
+
 #include "steradian/scene/build/builder.h"
 
 namespace sr::build_detail {
@@ -29,13 +31,28 @@ std::shared_ptr<const EnvironmentMap> Builder::environment_map(const std::string
 void Builder::build_lights(Scene& s) {
     Point3 center = s.bounds.empty() ? Point3(0, 0, 0) : s.bounds.center();
     Float radius = s.bounds.empty() ? 1 : std::max(Float(1e-3), length(s.bounds.diagonal()) / 2);
+    // A light whose power overflows a float (large values multiplied together) would put
+    // infinities and NaNs into the image and the meters; it is an error at its directive.
+    auto check_power = [&](size_t first, const SourceLoc& loc) {
+        for (size_t k = first; k < s.lights.size(); ++k)
+            if (!std::isfinite(light_phi_y(s.lights[k])))
+                throw_error(loc,
+                            "the light's emitted power overflows a 32-bit float: its "
+                            "intensity, scale, power or size is too large");
+    };
     for (size_t i = 0; i < m_d.lights.size(); ++i) {
+        size_t first = s.lights.size();
         if (auto it = m_luminaires.find(i); it != m_luminaires.end())
             add_luminaire(s, it->second);
         else
             add_light(s, m_d.lights[i], center, radius);
+        check_power(first, m_d.lights[i].loc);
     }
-    for (auto [shape, al] : m_pending_area) add_area_light(s, shape, m_d.area_lights[al]);
+    for (auto [shape, al] : m_pending_area) {
+        size_t first = s.lights.size();
+        add_area_light(s, shape, m_d.area_lights[al]);
+        check_power(first, m_d.area_lights[al].loc);
+    }
 }
 
 Spectrum Builder::illum_param(const ParamSet& ps, std::string_view name) {

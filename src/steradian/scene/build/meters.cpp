@@ -113,8 +113,15 @@ Meter build_meter(const MeterDesc& d, size_t index) {
         Vec3 u = ps.find_vector3("u").value(), v = ps.find_vector3("v").value();
         const Param* pr = require(ps, "resolution", d.loc, what, "integer resolution [nu nv]");
         std::vector<int> res = ps.get_ints("resolution");
-        if (res.size() != 2 || res[0] < 1 || res[1] < 1 || int64_t(res[0]) * res[1] > 100000000)
+        if (res.size() != 2 || res[0] < 1 || res[1] < 1)
             throw_error(pr->loc, "{}: \"resolution\" must be two positive integers [nu nv]", what);
+        // A cell costs its point, direction and readings in memory and a line of the
+        // readings' JSON; 1024 x 1024 cells is far beyond a lighting calculation grid (the
+        // former limit, 1e8, let a 300-byte scene allocate gigabytes).
+        constexpr int64_t kMaxGridCells = int64_t(1) << 20;
+        if (int64_t(res[0]) * res[1] > kMaxGridCells)
+            throw_error(pr->loc, "{}: \"resolution\" [{} {}] has more than {} cells", what, res[0],
+                        res[1], kMaxGridCells);
         m.nu = res[0];
         m.nv = res[1];
         Vec3 wu = x.vector(u), wv = x.vector(v);

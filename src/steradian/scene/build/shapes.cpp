@@ -195,6 +195,12 @@ ShapeGeometry Builder::make_bilinear(const ShapeDesc& s) {
     for (int i : idx)
         if (i < 0 || size_t(i) >= p.size())
             throw_error(s.loc, "Shape \"bilinearmesh\": vertex index {} out of range", i);
+    // One normal and uv per vertex: the tessellation below reads them by vertex index.
+    if (!n.empty() && n.size() != p.size())
+        throw_error(s.loc, "Shape \"bilinearmesh\": {} normals for {} vertices", n.size(),
+                    p.size());
+    if (!uv.empty() && uv.size() != p.size())
+        throw_error(s.loc, "Shape \"bilinearmesh\": {} uvs for {} vertices", uv.size(), p.size());
     std::vector<Point3> op;
     std::vector<Normal3> on;
     std::vector<Point2> ouv;

@@ -13,14 +13,26 @@ namespace {
 
 using build_detail::resolve_path;
 
+/// The largest magnitude of a tabulated spectrum value: interpolation computes
+/// v1 + t (v2 - v1), and v2 - v1 must not overflow a float (FLT_MAX is 3.4e38).
+constexpr double kMaxSpectrumValue = 1e38;
+
 /// Reads a two-column (wavelength, value) text file.
 std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& loc) {
-    std::istringstream f;
+    std::string text;
     try {
-        f.str(read_regular_file(path, kMaxSmallFileBytes, "spectrum file"));
+        text = read_regular_file(path, kMaxSmallFileBytes, "spectrum file");
     } catch (const Error& e) {
         throw Error(loc, e.what());
     }
+    return parse_spectrum_file(text, path, loc);
+}
+
+}  // namespace
+
+std::vector<Float> parse_spectrum_file(std::string_view text, const std::string& path,
+                                       const SourceLoc& loc) {
+    std::istringstream f{std::string(text)};
     std::vector<Float> v;
     std::string line;
     int line_no = 0;
@@ -28,13 +40,21 @@ std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& 
         ++line_no;
         auto hash = line.find('#');
         if (hash != std::string::npos) line.resize(hash);
+        if (line.find_first_not_of(" \t\r\f\v") == std::string::npos) continue;
+        // Exactly two numbers: a line of text, a third number or a number beyond double range
+        // was skipped or dropped silently before.
         std::istringstream ss(line);
         double a, b;
-        if (!(ss >> a)) continue;
-        if (!(ss >> b)) throw_error(loc, "{}:{}: expected \"wavelength value\"", path, line_no);
+        std::string extra;
+        if (!(ss >> a) || !(ss >> b) || (ss >> extra))
+            throw_error(loc, "{}:{}: expected \"wavelength value\" (two numbers), got \"{}\"", path,
+                        line_no, printable(line));
         if (!std::isfinite(Float(a)) || !std::isfinite(Float(b)))
             throw_error(loc, "{}:{}: the wavelength and value must be finite floats", path,
                         line_no);
+        if (!(std::abs(b) <= kMaxSpectrumValue))
+            throw_error(loc, "{}:{}: the value {:g} is outside +-{:g}", path, line_no, b,
+                        kMaxSpectrumValue);
         if (!v.empty() && !(Float(a) > v[v.size() - 2]))
             throw_error(loc, "{}:{}: wavelengths must increase ({} nm after {} nm)", path, line_no,
                         a, v[v.size() - 2]);
@@ -44,8 +64,6 @@ std::vector<Float> read_spectrum_file(const std::string& path, const SourceLoc& 
     if (v.size() < 4) throw_error(loc, "spectrum file \"{}\" has fewer than two samples", path);
     return v;
 }
-
-}  // namespace
 
 Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::string& base_dir) {
     switch (p.type) {
@@ -83,7 +101,8 @@ Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::strin
                     throw_error(p.loc, "\"spectrum {}\" expects one name or file", p.name);
                 if (auto s = named_spectrum(p.strings[0])) return *s;
                 std::string path = resolve_path(base_dir, p.strings[0]);
-                if (!std::filesystem::exists(path))
+                std::error_code ec;  // (a name too long for the system throws without it)
+                if (!std::filesystem::exists(path, ec))
                     throw_error(p.loc, "\"{}\" is neither a named spectrum nor a file",
                                 p.strings[0]);
                 auto pairs = read_spectrum_file(path, p.loc);
@@ -97,6 +116,10 @@ Spectrum spectrum_from_param(const Param& p, SpectrumKind kind, const std::strin
                 if (!std::isfinite(x))
                     throw_error(p.loc, "\"spectrum {}\": every wavelength and value must be a "
                                 "finite float, got {}", p.name, x);
+            for (size_t i = 1; i < pairs.size(); i += 2)
+                if (!(std::abs(pairs[i]) <= kMaxSpectrumValue))
+                    throw_error(p.loc, "\"spectrum {}\": the value {:g} is outside +-{:g}", p.name,
+                                pairs[i], kMaxSpectrumValue);
             for (size_t i = 2; i < pairs.size(); i += 2)
                 if (!(pairs[i] > pairs[i - 2]))
                     throw_error(p.loc, "\"spectrum {}\": wavelengths must increase", p.name);
