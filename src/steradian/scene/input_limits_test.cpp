@@ -94,3 +94,31 @@ TEST(SceneInputLimits, BilinearMeshNeedsOneNormalAndUvPerVertex) {
 
 }  // namespace
 }  // namespace sr
+
+namespace sr {
+namespace {
+
+// Attribute defaults are copied into every entity they apply to: a large default over many
+// shapes would take memory growing with the square of the file (a 256 KB scene took 1.7 GB).
+// The copies are counted, and beyond 2^26 values the parse stops at the default's line.
+TEST(SceneInputLimits, AttributeDefaultsCopiedWithoutBoundAreAnError) {
+    std::string text = "WorldBegin\nAttribute \"shape\" \"float padding\" [";
+    for (int i = 0; i < 1000; ++i) text += " 1";
+    text += " ]\n";
+    for (int i = 0; i < 70000; ++i) text += "Shape \"sphere\"\n";  // 70 M values copied
+    try {
+        parse_pbrt_string(text, "attrs.pbrt");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("attrs.pbrt:2:"), std::string::npos) << m;
+        EXPECT_NE(m.find("Attribute defaults"), std::string::npos) << m;
+    }
+    // Small defaults on many shapes stay fine.
+    std::string ok = "WorldBegin\nAttribute \"shape\" \"float radius\" [ 2 ]\n";
+    for (int i = 0; i < 20000; ++i) ok += "Shape \"sphere\"\n";
+    EXPECT_NO_THROW(parse_pbrt_string(ok, "attrs.pbrt"));
+}
+
+}  // namespace
+}  // namespace sr

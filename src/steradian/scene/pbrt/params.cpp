@@ -66,6 +66,21 @@ ParamSet make_params(std::vector<Param>&& own, const std::vector<Param>* attrs,
     return ps;
 }
 
+ParamSet Parser::make_params(std::vector<Param>&& own, const std::vector<Param>* attrs,
+                             std::string_view skip) {
+    if (attrs)
+        for (const Param& a : *attrs) {
+            m_attribute_values_copied += a.numbers.size() + a.strings.size() + a.bools.size() + 1;
+            if (m_attribute_values_copied > kMaxAttributeValuesCopied)
+                throw_error(a.loc,
+                            "the Attribute defaults have been copied into the scene's entities "
+                            "more than {} values' worth (each shape, light or material gets its "
+                            "own copy); give large values to the entities themselves",
+                            kMaxAttributeValuesCopied);
+        }
+    return pbrt_detail::make_params(std::move(own), attrs, skip);
+}
+
 // ---- parameter lists --------------------------------------------------------------------
 
 std::vector<Param> Parser::parse_params(Stream& s) {

@@ -3,6 +3,7 @@
 /// Include/Import), params.cpp (parameter lists, Option) and graphics_state.cpp (transformations
 /// and the attribute stack) (internal to src/steradian/scene/pbrt/).
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -34,6 +35,15 @@ class Parser {
 
   private:
     enum class ValueKind { Number, Integer, Bool, String, Spectrum };
+
+    /// As sr::pbrt_detail::make_params, counting the values of Attribute defaults copied
+    /// into entities: every shape, light or material gets its own copy, so a large default
+    /// over many entities would grow memory with the square of the file's size. Throws
+    /// sr::Error at a default's declaration beyond kMaxAttributeValuesCopied.
+    ParamSet make_params(std::vector<Param>&& own, const std::vector<Param>* attrs,
+                         std::string_view skip = {});
+    static constexpr uint64_t kMaxAttributeValuesCopied = uint64_t(1) << 26;
+    uint64_t m_attribute_values_copied = 0;
 
     std::vector<Param> parse_params(Stream& s);
     Param parse_param(Stream& s, const Token& decl);
