@@ -155,7 +155,7 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         s.lights.push_back(dl);
     } else if (l.type == "infinite" && ps.find("filename")) {
         if (ps.find("portal"))
-            throw_error(l.loc, "{}: portal infinite lights are not supported yet", what);
+            throw_unsupported(l.loc, "{}: portal infinite lights are not supported yet", what);
         if (ps.find_spectrum("L"))
             throw_error(l.loc, "{}: both \"L\" and \"filename\" given; pbrt-v4 takes one",
                         what);
@@ -188,7 +188,7 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         s.lights.push_back(il);
     } else if (l.type == "infinite") {
         if (ps.find("portal"))
-            throw_error(l.loc, "{}: portal infinite lights are not supported yet", what);
+            throw_unsupported(l.loc, "{}: portal infinite lights are not supported yet", what);
         UniformInfiniteLight il;
         Spectrum L = illum_param(ps, "L");
         il.radiance = densely_sampled(L);
