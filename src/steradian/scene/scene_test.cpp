@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -231,6 +232,42 @@ TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
     EXPECT_NE(mixed.find("\nt.pbrt:3:1: Shape \"sphere\": radius must be positive"),
               std::string::npos)
         << mixed;
+}
+
+TEST(SceneBuild, SpotConeFalloffIsConedeltaangle) {
+    // pbrt-v4 (lights.cpp, SpotLight::Create): cosFalloffEnd = cos(coneangle),
+    // cosFalloffStart = cos(coneangle - conedeltaangle); defaults 30 and 5 degrees.
+    set_warnings_quiet(true);
+    const Scene s = build_scene(parse_pbrt_string(R"(WorldBegin
+LightSource "spot" "float coneangle" 40 "float conedeltaangle" 15
+LightSource "spot"
+Shape "sphere"
+)",
+                                                  "t.pbrt"));
+    set_warnings_quiet(false);
+    ASSERT_EQ(s.lights.size(), 2u);
+    const auto& a = std::get<SpotLight>(s.lights[0]);
+    const auto& b = std::get<SpotLight>(s.lights[1]);
+    const double deg = 3.14159265358979323846 / 180;
+    EXPECT_NEAR(a.cos_falloff_end, std::cos(40 * deg), 1e-6);
+    EXPECT_NEAR(a.cos_falloff_start, std::cos(25 * deg), 1e-6);
+    EXPECT_NEAR(b.cos_falloff_end, std::cos(30 * deg), 1e-6);
+    EXPECT_NEAR(b.cos_falloff_start, std::cos(25 * deg), 1e-6);
+}
+
+TEST(SceneBuild, FilmScaleIsReadAsPbrtUpgradeReadsIt) {
+    // pbrt-v4's --upgrade (parser.cpp, FormattingParserTarget::Film) rewrites pbrt-v3's
+    // "float scale" s as "float iso" 100 s; the imaging ratio is exposure time * iso / 100.
+    auto ratio = [](const std::string& film) {
+        set_warnings_quiet(true);
+        const Scene s = build_scene(parse_pbrt_string(
+            "Film \"rgb\" " + film + "\nWorldBegin\nShape \"sphere\"\n", "t.pbrt"));
+        set_warnings_quiet(false);
+        return s.film.imaging_ratio;
+    };
+    EXPECT_FLOAT_EQ(ratio("\"float scale\" 2.5"), ratio("\"float iso\" 250"));
+    EXPECT_FLOAT_EQ(ratio("\"float scale\" 2.5"), 2.5f);
+    EXPECT_FLOAT_EQ(ratio("\"float scale\" 2 \"float iso\" 50"), 1.0f);
 }
 
 }  // namespace
