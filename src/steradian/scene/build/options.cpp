@@ -19,12 +19,12 @@ void Builder::build_options_block() {
     for (const Param& p : m_d.options.params())
         if (p.name != "seed") warning(p.loc, fmt::format("Option \"{}\" is ignored", p.name));
     // What is unsupported in one of them is recorded, and pbrt-v4's default stands in.
-    auto or_default = [&](const auto& desc, auto build) {
-        if (recorded([&] { (this->*build)(desc); })) return;
+    auto or_default = [&](const auto& desc, auto make) {
+        if (recorded([&] { (this->*make)(desc); })) return;
         auto d = desc;
         d.type.clear();
         d.params = ParamSet();
-        (this->*build)(d);
+        (this->*make)(d);
     };
     or_default(m_d.film, &Builder::build_film);
     or_default(m_d.camera, &Builder::build_camera);
