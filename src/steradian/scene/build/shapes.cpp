@@ -155,8 +155,9 @@ void Builder::check_alpha(const ShapeDesc& s) {
     if (const Param* a = s.params.find("alpha")) {
         if (a->type == ParamType::Float && a->numbers.size() == 1 && a->numbers[0] == 1) return;
         if (s.type == "sphere")
-            throw_unsupported(a->loc, "\"alpha\" cut-outs of spheres are not supported yet (triangle "
-                                      "meshes, bilinear meshes, PLY meshes and disks have them)");
+            throw_unsupported(a->loc,
+                              "\"alpha\" cut-outs of spheres are not supported yet (triangle "
+                              "meshes, bilinear meshes, PLY meshes and disks have them)");
     }
 }
 
