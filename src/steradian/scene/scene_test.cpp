@@ -215,7 +215,7 @@ TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
     EXPECT_EQ(build_error("WorldBegin\nShape \"curve\"\n"),
               "t.pbrt:2:1: shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
     std::string text = "WorldBegin\n";
-    for (int i = 0; i < 30; ++i) text += "Shape \"cylinder\"\n";
+    for (int i = 0; i < 30; ++i) text += "Shape \"curve\"\n";
     const std::string msg = build_error(text);
     EXPECT_NE(msg.find("20 unsupported features or unknown parameters (stopped at the first 20)"),
               std::string::npos)
