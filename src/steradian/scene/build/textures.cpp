@@ -112,11 +112,11 @@ void Builder::build_float_texture(const TextureDesc& t) {
                               float_tex_arg(ps, "amount", 0.5f)};
     } else if (t.type == "checkerboard") {
         check_checkerboard_dimension(t, ps);
-        tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1),
-                                       float_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
+        tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1), float_tex_arg(ps, "tex2", 0),
+                                       read_mapping(t, ps)};
     } else if (t.type == "directionmix") {
-        tex = DirectionMixFloatTexture{float_tex_arg(ps, "tex1", 0),
-                                       float_tex_arg(ps, "tex2", 1), mix_direction(t, ps)};
+        tex = DirectionMixFloatTexture{float_tex_arg(ps, "tex1", 0), float_tex_arg(ps, "tex2", 1),
+                                       mix_direction(t, ps)};
     } else if (t.type == "fbm" || t.type == "wrinkled" || t.type == "windy") {
         NoiseFloatTexture n;
         n.kind = t.type == "fbm"        ? NoiseFloatTexture::Kind::Fbm
@@ -135,9 +135,9 @@ void Builder::build_float_texture(const TextureDesc& t) {
         tex = DotsFloatTexture{read_mapping(t, ps), float_tex_arg(ps, "inside", 1),
                                float_tex_arg(ps, "outside", 0)};
     } else if (t.type == "bilerp") {
-        tex = BilerpFloatTexture{read_mapping(t, ps), ps.get_float("v00", 0),
-                                 ps.get_float("v01", 1), ps.get_float("v10", 0),
-                                 ps.get_float("v11", 1)};
+        tex =
+            BilerpFloatTexture{read_mapping(t, ps), ps.get_float("v00", 0), ps.get_float("v01", 1),
+                               ps.get_float("v10", 0), ps.get_float("v11", 1)};
     } else {
         unsupported(t, "Texture");
     }
@@ -174,9 +174,9 @@ void Builder::build_spectrum_texture(const TextureDesc& t) {
             tex = DotsSpectrumTexture{read_mapping(t, ps), spectrum_tex_arg(ps, "inside", 1),
                                       spectrum_tex_arg(ps, "outside", 0)};
         } else if (t.type == "directionmix") {
-            tex = DirectionMixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
-                                              spectrum_tex_arg(ps, "tex2", 1),
-                                              mix_direction(t, ps)};
+            tex =
+                DirectionMixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
+                                            spectrum_tex_arg(ps, "tex2", 1), mix_direction(t, ps)};
         } else if (t.type == "bilerp") {
             auto corner = [&](std::string_view name, Float def) {
                 const Param* p = ps.find_spectrum(name);
@@ -184,20 +184,19 @@ void Builder::build_spectrum_texture(const TextureDesc& t) {
                                spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir)))
                          : Spectrum(ConstantSpectrum{def});
             };
-            tex = BilerpSpectrumTexture{read_mapping(t, ps), corner("v00", 0),
-                                        corner("v01", 1), corner("v10", 0), corner("v11", 1)};
+            tex = BilerpSpectrumTexture{read_mapping(t, ps), corner("v00", 0), corner("v01", 1),
+                                        corner("v10", 0), corner("v11", 1)};
         } else if (t.type == "scale") {
-            tex = ScaleSpectrumTexture{spectrum_tex_arg(ps, "tex", 1),
-                                       float_tex_arg(ps, "scale", 1)};
+            tex =
+                ScaleSpectrumTexture{spectrum_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
         } else if (t.type == "mix") {
-            tex = MixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
-                                     spectrum_tex_arg(ps, "tex2", 1),
-                                     float_tex_arg(ps, "amount", 0.5f)};
+            tex =
+                MixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0), spectrum_tex_arg(ps, "tex2", 1),
+                                   float_tex_arg(ps, "amount", 0.5f)};
         } else {
             check_checkerboard_dimension(t, ps);
             tex = CheckerboardSpectrumTexture{spectrum_tex_arg(ps, "tex1", 1),
-                                              spectrum_tex_arg(ps, "tex2", 0),
-                                              read_mapping(t, ps)};
+                                              spectrum_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
         }
         ps.check_unused(fmt::format("Texture \"{}\"", t.name));
         m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
