@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 
+#include "steradian/core/input_file.h"
 #include "steradian/scene/mesh_io/ply.h"
 
 namespace {
@@ -119,6 +120,28 @@ void run(benchmark::State& state, const TempFile& file) {
 // 708 x 708 vertices (501,264) -> 999,698 triangles; float xyz + normals; uchar/int faces.
 void BM_ReadPly_BinaryLE_1M(benchmark::State& state) { run(state, grid_file(708, true)); }
 BENCHMARK(BM_ReadPly_BinaryLE_1M)->Unit(benchmark::kMillisecond);
+
+// The same 1M-triangle mesh gzip-compressed (zlib level 6, as gzip's default): decompression
+// in memory plus the binary read. bench/plygz_load.sh times a 10M-triangle one end to end.
+void BM_ReadPly_BinaryLE_1M_Gzip(benchmark::State& state) {
+    static const TempFile gz = [] {
+        const TempFile& plain = grid_file(708, true);
+        std::FILE* in = std::fopen(plain.path.c_str(), "rb");
+        std::string bytes(plain.size, '\0');
+        if (!in || std::fread(bytes.data(), 1, bytes.size(), in) != bytes.size()) std::abort();
+        std::fclose(in);
+        TempFile f;
+        f.path = plain.path + ".gz";
+        const std::string z = sr::gzip_compress(bytes);
+        std::FILE* out = std::fopen(f.path.c_str(), "wb");
+        if (!out || std::fwrite(z.data(), 1, z.size(), out) != z.size()) std::abort();
+        std::fclose(out);
+        f.size = plain.size;  // bytes processed: the decompressed PLY
+        return f;
+    }();
+    run(state, gz);
+}
+BENCHMARK(BM_ReadPly_BinaryLE_1M_Gzip)->Unit(benchmark::kMillisecond);
 
 // 225 x 225 vertices (50,625) -> 100,352 triangles.
 void BM_ReadPly_Ascii_100k(benchmark::State& state) { run(state, grid_file(225, false)); }

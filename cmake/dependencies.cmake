@@ -17,6 +17,8 @@ find_library(OIIO_UTIL_LIBRARY OpenImageIO_Util REQUIRED)
 add_library(steradian_oiio INTERFACE)
 target_include_directories(steradian_oiio SYSTEM INTERFACE ${OIIO_INCLUDE_DIR})
 target_link_libraries(steradian_oiio INTERFACE ${OIIO_LIBRARY} ${OIIO_UTIL_LIBRARY})
+# zlib: gzip-compressed scene files and PLY meshes (core/input_file.cpp).
+find_package(ZLIB REQUIRED)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)

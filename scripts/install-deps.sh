@@ -14,6 +14,7 @@ packages=(
   libopenimageio-dev     # every other image format (TIFF, JPEG, HDR, ...), through the
                          # module steradian_oiio.so loaded only when such a file is used
   openimageio-tools      # oiiotool, for inspecting renders
+  zlib1g-dev             # zlib: gzip-compressed scene files (.pbrt.gz) and meshes (.ply.gz)
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizers (preset fuzz)

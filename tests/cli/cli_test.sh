@@ -444,5 +444,24 @@ check "without the OpenImageIO module: the reason is given" grep -q "nomodule.ti
 "$bin" render "$tmp/small.pbrt" -o "$tmp/with-module.tif" --quiet
 check "with the OpenImageIO module: .tif written" test $? -eq 0 -a -s "$tmp/with-module.tif"
 
+# pbrt compatibility: gzip inputs render as their text; unsupported things are all listed.
+mkdir -p "$tmp/gz"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n-1 -1 0\n1 -1 0\n0 1 0\n3 0 1 2\n' > "$tmp/gz/t.ply"
+gzip -c "$tmp/gz/t.ply" > "$tmp/gz/t.ply.gz"
+sed 's/Shape "sphere".*/Shape "plymesh" "string filename" "t.ply"/' "$tmp/small.pbrt" > "$tmp/gz/s.pbrt"
+sed 's/"t.ply"/"t.ply.gz"/' "$tmp/gz/s.pbrt" | gzip -c > "$tmp/gz/s.pbrt.gz"
+"$bin" render "$tmp/gz/s.pbrt" -o "$tmp/gz/a.pfm" --seed 3 --quiet
+"$bin" render "$tmp/gz/s.pbrt.gz" -o "$tmp/gz/b.pfm" --seed 3 --quiet
+check "a .pbrt.gz with a .ply.gz renders as the uncompressed scene" cmp -s "$tmp/gz/a.pfm" "$tmp/gz/b.pfm"
+head -c 100 "$tmp/gz/t.ply.gz" > "$tmp/gz/cut.ply.gz"
+sed 's/"t.ply"/"cut.ply.gz"/' "$tmp/gz/s.pbrt" > "$tmp/gz/cut.pbrt"
+"$bin" render "$tmp/gz/cut.pbrt" -o "$tmp/gz/c.pfm" --quiet > "$tmp/gz/cut.txt" 2>&1
+check "a truncated .ply.gz is an error at its Shape" grep -q "cut.pbrt:8:1: .*cut.ply.gz: truncated gzip data" "$tmp/gz/cut.txt"
+sed -e 's/Camera "perspective"/Camera "realistic"/' -e 's/\(Shape "sphere"\)/\1 "float radus" 1/' \
+  -e 's/^LightSource.*/LightSource "projection"/' "$tmp/small.pbrt" > "$tmp/gz/three.pbrt"
+"$bin" render "$tmp/gz/three.pbrt" -o "$tmp/gz/t.pfm" --quiet > "$tmp/gz/three.txt" 2>&1
+check "unsupported things: non-zero exit" test $? -ne 0
+check "unsupported things: all three located" bash -c "grep -q 'three.pbrt:2:1: Camera \"realistic\"' '$tmp/gz/three.txt' && grep -q 'three.pbrt:6:1: light type \"projection\"' '$tmp/gz/three.txt' && grep -q 'three.pbrt:8:.*unused parameter \"float radus\"' '$tmp/gz/three.txt'"
+
 echo "cli: $pass passed, $fail failed"
 test "$fail" -eq 0

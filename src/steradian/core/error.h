@@ -37,6 +37,20 @@ private:
     std::string m_message;
 };
 
+/// An Error saying that the input asks for something steradian does not support or does not
+/// know (an entity type, a feature, a parameter name no entity reads). Continuing past it is
+/// safe: the scene builder records it, goes on, and reports all of them at once.
+class UnsupportedError : public Error {
+  public:
+    using Error::Error;
+};
+
+template <typename... Args>
+[[noreturn]] void throw_unsupported(const SourceLoc& loc, fmt::format_string<Args...> f,
+                                    Args&&... args) {
+    throw UnsupportedError(loc, fmt::format(f, std::forward<Args>(args)...));
+}
+
 template <typename... Args>
 [[noreturn]] void throw_error(const SourceLoc& loc, fmt::format_string<Args...> f, Args&&... args) {
     throw Error(loc, fmt::format(f, std::forward<Args>(args)...));

@@ -3,6 +3,7 @@
 /// directories: `Include "/dev/zero"` read until memory ran out), and only up to a size
 /// limit that the error names, checked before anything is allocated.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,6 +31,35 @@ uint64_t check_regular_file(const std::string& path, uint64_t limit, std::string
 /// or on a read error.
 std::string read_regular_file(const std::string& path, uint64_t limit, std::string_view what,
                               bool record = true);
+
+/// True if `bytes` starts with the gzip magic number 1f 8b (RFC 1952, section 2.3.1). No
+/// scene text or PLY file can start so (a PLY file starts with "ply").
+bool is_gzip(std::string_view bytes);
+
+/// The decompressed contents of gzip data (RFC 1952; several members are concatenated, as
+/// gzip does). The output grows as it is produced and never beyond `limit` bytes: more is
+/// an sr::Error naming the limit (a "gzip bomb" cannot exhaust memory). Truncated or corrupt
+/// data (a bad header, deflate stream, CRC-32 or length) is an sr::Error too, whose message
+/// says why ("truncated gzip data ..."): the caller names the file.
+std::string gunzip(std::string_view compressed, uint64_t limit);
+
+/// gunzip() into a buffer of its own, without the copy into a std::string (large meshes).
+struct GunzipBytes {
+    std::unique_ptr<char[]> data;
+    uint64_t size = 0;
+    std::string_view view() const { return {data.get(), size_t(size)}; }
+};
+GunzipBytes gunzip_bytes(std::string_view compressed, uint64_t limit);
+
+/// `data` compressed as one gzip member (zlib's deflate at `level` 1-9): what `gzip -c`
+/// makes. For tests and benchmarks that make .gz inputs.
+std::string gzip_compress(std::string_view data, int level = 6);
+
+/// read_regular_file(), then gunzip() if the contents start with the gzip magic number (the
+/// decompressed size has the same `limit`); *was_gzip tells which. The file is recorded by
+/// its own (compressed) path.
+std::string read_input_file(const std::string& path, uint64_t limit, std::string_view what,
+                            bool* was_gzip = nullptr);
 
 /// Every file accepted by regular_file_problem() (so by check_regular_file() and
 /// read_regular_file(): every scene, mesh, luminaire, spectrum and image file a scene

@@ -240,7 +240,7 @@ std::optional<std::string> ParamSet::find_texture(std::string_view name) const {
 
 void ParamSet::check_unused(std::string_view what) const {
     for (const Param& p : m_params)
-        if (!p.used) throw_error(p.loc, "unused parameter {} for {}", decl(p), what);
+        if (!p.used) throw_unsupported(p.loc, "unused parameter {} for {}", decl(p), what);
 }
 
 }  // namespace sr

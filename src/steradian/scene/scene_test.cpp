@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "steradian/scene/build.h"
@@ -150,6 +152,122 @@ TEST(SceneIntersect, OccludedPacketAgreesWithOccluded) {
             EXPECT_EQ(blocked, 0u);
         }
     }
+}
+
+/// The message of the error build_scene() throws for `text`, or "" if none.
+std::string build_error(const std::string& text) {
+    set_warnings_quiet(true);
+    std::string msg;
+    try {
+        build_scene(parse_pbrt_string(text, "t.pbrt"));
+    } catch (const Error& e) {
+        msg = e.what();
+    }
+    set_warnings_quiet(false);
+    return msg;
+}
+
+size_t count_of(const std::string& s, const std::string& what) {
+    size_t n = 0;
+    for (size_t i = s.find(what); i != std::string::npos; i = s.find(what, i + 1)) ++n;
+    return n;
+}
+
+TEST(SceneBuild, UnsupportedThingsAreAllReportedInFileOrder) {
+    // One of each kind the builder goes on past, each with a stand-in or left out; what
+    // refers to them (the material's texture, the shape's material) must not add errors.
+    const std::string msg = build_error(R"(Camera "spherical"
+Sampler "halton" "integer pixelsamples" 4 "string bogus" "x"
+WorldBegin
+Texture "t" "spectrum" "marble"
+Material "hair"
+MakeNamedMaterial "m" "string type" "diffuse" "texture reflectance" "t" "float sigma" 2
+NamedMaterial "m"
+Shape "curve"
+Shape "sphere"
+LightSource "spot" "float conedelta" 3
+AreaLightSource "diffuse" "string filename" "e.exr"
+Shape "disk"
+)");
+    EXPECT_EQ(msg.rfind("the scene cannot be rendered: 8 unsupported features or unknown "
+                        "parameters",
+                        0),
+              0u)
+        << msg;
+    size_t at = 0;
+    for (const char* want :
+         {"\nt.pbrt:1:1: Camera \"spherical\" is not supported yet",
+          "\nt.pbrt:2:43: unused parameter \"string bogus\" for Sampler \"halton\"",
+          "\nt.pbrt:4:1: Texture \"marble\" is not supported yet",
+          "\nt.pbrt:5:1: material type \"hair\" is not supported yet",
+          "\nt.pbrt:6:73: unused parameter \"float sigma\"",
+          "\nt.pbrt:8:1: shape type \"curve\" is not supported yet",
+          "\nt.pbrt:10:20: LightSource \"spot\": \"conedelta\" is not a pbrt-v4 parameter",
+          "\nt.pbrt:11:1: image-textured area lights"}) {
+        const size_t p = msg.find(want, at);
+        EXPECT_NE(p, std::string::npos) << "missing or out of order: " << want << "\n" << msg;
+        if (p != std::string::npos) at = p;
+    }
+    EXPECT_EQ(count_of(msg, "\nt.pbrt:"), 8u) << msg;
+}
+
+TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
+    EXPECT_EQ(build_error("WorldBegin\nShape \"curve\"\n"),
+              "t.pbrt:2:1: shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
+    std::string text = "WorldBegin\n";
+    for (int i = 0; i < 30; ++i) text += "Shape \"curve\"\n";
+    const std::string msg = build_error(text);
+    EXPECT_NE(msg.find("20 unsupported features or unknown parameters (stopped at the first 20)"),
+              std::string::npos)
+        << msg;
+    EXPECT_EQ(count_of(msg, "\nt.pbrt:"), 20u);
+    // An error of another kind after unsupported ones ends the list.
+    const std::string mixed =
+        build_error("WorldBegin\nShape \"curve\"\nShape \"sphere\" \"float radius\" -1\n");
+    EXPECT_NE(mixed.find("1 unsupported features or unknown parameters (see "
+                         "docs/pbrt-support.md), then an error:\nt.pbrt:2:1: shape type "
+                         "\"curve\""),
+              std::string::npos)
+        << mixed;
+    EXPECT_NE(mixed.find("\nt.pbrt:3:1: Shape \"sphere\": radius must be positive"),
+              std::string::npos)
+        << mixed;
+}
+
+TEST(SceneBuild, SpotConeFalloffIsConedeltaangle) {
+    // pbrt-v4 (lights.cpp, SpotLight::Create): cosFalloffEnd = cos(coneangle),
+    // cosFalloffStart = cos(coneangle - conedeltaangle); defaults 30 and 5 degrees.
+    set_warnings_quiet(true);
+    const Scene s = build_scene(parse_pbrt_string(R"(WorldBegin
+LightSource "spot" "float coneangle" 40 "float conedeltaangle" 15
+LightSource "spot"
+Shape "sphere"
+)",
+                                                  "t.pbrt"));
+    set_warnings_quiet(false);
+    ASSERT_EQ(s.lights.size(), 2u);
+    const auto& a = std::get<SpotLight>(s.lights[0]);
+    const auto& b = std::get<SpotLight>(s.lights[1]);
+    const double deg = 3.14159265358979323846 / 180;
+    EXPECT_NEAR(a.cos_falloff_end, std::cos(40 * deg), 1e-6);
+    EXPECT_NEAR(a.cos_falloff_start, std::cos(25 * deg), 1e-6);
+    EXPECT_NEAR(b.cos_falloff_end, std::cos(30 * deg), 1e-6);
+    EXPECT_NEAR(b.cos_falloff_start, std::cos(25 * deg), 1e-6);
+}
+
+TEST(SceneBuild, FilmScaleIsReadAsPbrtUpgradeReadsIt) {
+    // pbrt-v4's --upgrade (parser.cpp, FormattingParserTarget::Film) rewrites pbrt-v3's
+    // "float scale" s as "float iso" 100 s; the imaging ratio is exposure time * iso / 100.
+    auto ratio = [](const std::string& film) {
+        set_warnings_quiet(true);
+        const Scene s = build_scene(parse_pbrt_string(
+            "Film \"rgb\" " + film + "\nWorldBegin\nShape \"sphere\"\n", "t.pbrt"));
+        set_warnings_quiet(false);
+        return s.film.imaging_ratio;
+    };
+    EXPECT_FLOAT_EQ(ratio("\"float scale\" 2.5"), ratio("\"float iso\" 250"));
+    EXPECT_FLOAT_EQ(ratio("\"float scale\" 2.5"), 2.5f);
+    EXPECT_FLOAT_EQ(ratio("\"float scale\" 2 \"float iso\" 50"), 1.0f);
 }
 
 }  // namespace

@@ -1,4 +1,7 @@
 /// build_scene(): the Builder's stages in order, then lights and meters once geometry is final.
+#include <algorithm>
+#include <tuple>
+
 #include "steradian/scene/build/builder.h"
 
 namespace sr {
@@ -9,11 +12,34 @@ Scene Builder::build() {
     build_options_block();
     build_textures();
     build_materials();
-    for (const ShapeDesc& s : m_d.shapes) add_shape(s, nullptr);
+    for (const ShapeDesc& s : m_d.shapes) recorded([&] { add_shape(s, nullptr); });
     build_instances();
     build_luminaires();
     // Lights are created by build_lights() once the geometry's bounds are known.
     return std::move(m_s);
+}
+
+void Builder::fail(const Error* last) {
+    m_failed = true;
+    const size_t n = m_unsupported.size() + (last ? 1 : 0);
+    if (n == 1) throw last ? *last : m_unsupported.front();  // as it was thrown
+    std::string msg = fmt::format(
+        "the scene cannot be rendered: {} unsupported features or unknown parameters{} (see "
+        "docs/pbrt-support.md){}:",
+        m_unsupported.size(),
+        m_unsupported.size() >= kMaxReportedUnsupported
+            ? fmt::format(" (stopped at the first {})", kMaxReportedUnsupported)
+            : "",
+        last ? ", then an error" : "");
+    // In the order of the files (the build's order is by kind: textures, materials, shapes...).
+    std::stable_sort(m_unsupported.begin(), m_unsupported.end(),
+                     [](const Error& a, const Error& b) {
+                         return std::tie(a.loc().file, a.loc().line, a.loc().column) <
+                                std::tie(b.loc().file, b.loc().line, b.loc().column);
+                     });
+    for (const UnsupportedError& e : m_unsupported) msg += fmt::format("\n{}", e.what());
+    if (last) msg += fmt::format("\n{}", last->what());
+    throw Error(msg);
 }
 
 }  // namespace build_detail
@@ -22,12 +48,18 @@ using build_detail::Builder;
 
 Scene build_scene(const SceneDesc& desc, const BuildOptions& options) {
     Builder b(desc, options);
-    Scene s = b.build();
-    s.finalize_geometry();
-    b.build_lights(s);
-    s.finalize_lights();
-    s.meters = build_meters(desc.meters);
-    return s;
+    try {
+        Scene s = b.build();
+        s.finalize_geometry();
+        b.build_lights(s);
+        b.fail_if_recorded();
+        s.finalize_lights();
+        s.meters = build_meters(desc.meters);
+        return s;
+    } catch (const Error& e) {
+        if (b.failed()) throw;  // already the whole list
+        b.fail(&e);             // the error that stopped the build, after those recorded
+    }
 }
 
 }  // namespace sr

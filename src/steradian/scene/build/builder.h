@@ -20,7 +20,8 @@ inline std::string resolve_path(const std::string& base_dir, const std::string& 
 }
 
 [[noreturn]] inline void unsupported(const EntityDesc& e, std::string_view what) {
-    throw_error(e.loc, "{} \"{}\" is not supported yet (see docs/pbrt-support.md)", what, e.type);
+    throw_unsupported(e.loc, "{} \"{}\" is not supported yet (see docs/pbrt-support.md)", what,
+                      e.type);
 }
 
 /// The largest coordinate accepted for a camera, light or meter position: Embree 3 requires
@@ -43,20 +44,44 @@ inline void check_position(Point3 p, const SourceLoc& loc, std::string_view what
                         "+-{:g}", what, p.x, p.y, p.z, kMaxCoordinate);
 }
 
+/// At most this many unsupported features and unknown parameters are reported in one run.
+inline constexpr size_t kMaxReportedUnsupported = 20;
+
 class Builder {
   public:
     Builder(const SceneDesc& d, const BuildOptions& o) : m_d(d), m_o(o) {}
 
     Scene build();  // build.cpp
 
+    /// Runs f(). An UnsupportedError it throws (an unsupported feature or an unknown
+    /// parameter) is recorded instead and false returned: the caller leaves the entity out or
+    /// puts a stand-in in its place, and the build goes on, so that one run lists them all.
+    template <typename F>
+    bool recorded(F&& f) {
+        try {
+            f();
+            return true;
+        } catch (const UnsupportedError& e) {
+            m_unsupported.push_back(e);
+            if (m_unsupported.size() >= kMaxReportedUnsupported) fail(nullptr);
+            return false;
+        }
+    }
+    /// Throws the recorded errors, if any, and `last` (an error that stopped the build).
+    void fail_if_recorded() {
+        if (!m_unsupported.empty()) fail(nullptr);
+    }
+    [[noreturn]] void fail(const Error* last);  // build.cpp
+    bool failed() const { return m_failed; }    ///< fail() has thrown
+
   private:
     // ---- options block (options.cpp) ---------------------------------------------------
     void build_options_block();
-    void build_film();
-    void build_camera();
-    void build_filter();
-    void build_sampler();
-    void build_integrator();
+    void build_film(const EntityDesc& f);
+    void build_camera(const CameraDesc& c);
+    void build_filter(const EntityDesc& f);
+    void build_sampler(const EntityDesc& s);
+    void build_integrator(const EntityDesc& e);
 
     // ---- textures (textures.cpp) -------------------------------------------------------
     std::shared_ptr<const TextureImage> load_image(const TextureDesc& t, const ParamSet& ps);
@@ -67,6 +92,8 @@ class Builder {
     UvMapping read_mapping(const TextureDesc& t, const ParamSet& ps);
     Vec3 mix_direction(const TextureDesc& t, const ParamSet& ps);
     void build_textures();
+    void build_float_texture(const TextureDesc& t);
+    void build_spectrum_texture(const TextureDesc& t);
     static void check_checkerboard_dimension(const TextureDesc& t, const ParamSet& ps);
     std::shared_ptr<const FloatTexture> float_tex_arg(const ParamSet& ps, std::string_view name,
                                                       Float def);
@@ -160,6 +187,9 @@ class Builder {
 
     const SceneDesc& m_d;
     BuildOptions m_o;
+    std::vector<UnsupportedError> m_unsupported;  ///< recorded by recorded()
+    bool m_failed = false;
+    std::vector<bool> m_failed_light;  ///< by index into SceneDesc::lights: left out
     Scene m_s;
     Float m_exposure_iso = 1;
     std::map<std::string, std::shared_ptr<const TextureImage>> m_images;

@@ -41,16 +41,17 @@ void Builder::build_lights(Scene& s) {
                             "intensity, scale, power or size is too large");
     };
     for (size_t i = 0; i < m_d.lights.size(); ++i) {
+        if (m_failed_light[i]) continue;  // already recorded
         size_t first = s.lights.size();
         if (auto it = m_luminaires.find(i); it != m_luminaires.end())
             add_luminaire(s, it->second);
         else
-            add_light(s, m_d.lights[i], center, radius);
+            recorded([&] { add_light(s, m_d.lights[i], center, radius); });
         check_power(first, m_d.lights[i].loc);
     }
     for (auto [shape, al] : m_pending_area) {
         size_t first = s.lights.size();
-        add_area_light(s, shape, m_d.area_lights[al]);
+        recorded([&] { add_area_light(s, shape, m_d.area_lights[al]); });
         check_power(first, m_d.area_lights[al].loc);
     }
 }
@@ -99,7 +100,12 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         Spectrum I = illum_param(ps, "I");
         sl.intensity = densely_sampled(I);
         Float sc = ps.get_float("scale", 1);
-        Float cone = ps.get_float("coneangle", 30), delta = ps.get_float("conedelta", 5);
+        if (const Param* old = ps.find("conedelta"))
+            throw_unsupported(old->loc,
+                              "{}: \"conedelta\" is not a pbrt-v4 parameter: the width of "
+                              "the cone's falloff is \"conedeltaangle\"",
+                              what);
+        Float cone = ps.get_float("coneangle", 30), delta = ps.get_float("conedeltaangle", 5);
         sl.cos_falloff_end = std::cos(radians(cone));
         sl.cos_falloff_start = std::cos(radians(cone - delta));
         Float phi = ps.get_float("power", -1);
@@ -149,7 +155,7 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         s.lights.push_back(dl);
     } else if (l.type == "infinite" && ps.find("filename")) {
         if (ps.find("portal"))
-            throw_error(l.loc, "{}: portal infinite lights are not supported yet", what);
+            throw_unsupported(l.loc, "{}: portal infinite lights are not supported yet", what);
         if (ps.find_spectrum("L"))
             throw_error(l.loc, "{}: both \"L\" and \"filename\" given; pbrt-v4 takes one",
                         what);
@@ -182,7 +188,7 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         s.lights.push_back(il);
     } else if (l.type == "infinite") {
         if (ps.find("portal"))
-            throw_error(l.loc, "{}: portal infinite lights are not supported yet", what);
+            throw_unsupported(l.loc, "{}: portal infinite lights are not supported yet", what);
         UniformInfiniteLight il;
         Spectrum L = illum_param(ps, "L");
         il.radiance = densely_sampled(L);
@@ -197,17 +203,17 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         s.infinite_lights.push_back(int(s.lights.size()));
         s.lights.push_back(il);
     } else {
-        throw_error(l.loc, "light type \"{}\" is not supported yet (see docs/pbrt-support.md)",
-                    l.type);
+        throw_unsupported(
+            l.loc, "light type \"{}\" is not supported yet (see docs/pbrt-support.md)", l.type);
     }
 }
 
 void Builder::add_area_light(Scene& s, int shape_index, const AreaLightDesc& a) {
     if (a.type != "diffuse")
-        throw_error(a.loc, "area light type \"{}\" is not supported yet", a.type);
+        throw_unsupported(a.loc, "area light type \"{}\" is not supported yet", a.type);
     const ParamSet& ps = a.params;
     if (ps.find("filename"))
-        throw_error(a.loc, "image-textured area lights (\"filename\") are not supported yet");
+        throw_unsupported(a.loc, "image-textured area lights (\"filename\") are not supported yet");
     Spectrum L_param = illum_param(ps, "L");
     Float sc = ps.get_float("scale", 1);
     bool two_sided = ps.get_bool("twosided", false);

@@ -14,10 +14,14 @@ std::string Builder::lower_extension(const std::string& f) {
 }
 
 void Builder::build_luminaires() {
+    m_failed_light.assign(m_d.lights.size(), false);
     for (size_t i = 0; i < m_d.lights.size(); ++i) {
         const LightDesc& l = m_d.lights[i];
         if (l.type != "goniometric") continue;
-        m_luminaires[i] = make_luminaire(l);
+        m_failed_light[i] = !recorded([&] {
+            Luminaire lum = make_luminaire(l);
+            m_luminaires[i] = std::move(lum);
+        });
     }
 }
 

@@ -183,15 +183,20 @@ Material Builder::make_material_model(const MaterialDesc& m) {
         w.energy_scale = energy_scale(w.kd, w.ks, m.loc, what);
         return w;
     }
-    throw_error(m.loc, "material type \"{}\" is not supported yet (see docs/pbrt-support.md)",
-                m.type);
+    throw_unsupported(m.loc, "material type \"{}\" is not supported yet (see docs/pbrt-support.md)",
+                      m.type);
 }
 
 void Builder::build_materials() {
     m_material_index.resize(m_d.materials.size(), -1);
     for (size_t i = 0; i < m_d.materials.size(); ++i) {
-        m_material_index[i] = int(m_s.materials.size());
-        m_s.materials.push_back(make_material(m_d.materials[i]));
+        Material m;
+        if (recorded([&] { m = make_material(m_d.materials[i]); })) {
+            m_material_index[i] = int(m_s.materials.size());
+            m_s.materials.push_back(std::move(m));
+        } else {
+            m_material_index[i] = resolve_material({});  // recorded; the default stands in
+        }
     }
     resolve_mixes();
 }

@@ -7,23 +7,33 @@ namespace sr::build_detail {
 
 void Builder::build_options_block() {
     for (const EntityDesc& cs : m_d.color_spaces)
-        if (cs.type != "srgb")
-            throw_error(cs.loc, "ColorSpace \"{}\" is not supported yet (only \"srgb\")", cs.type);
+        recorded([&] {
+            if (cs.type != "srgb")
+                throw_unsupported(cs.loc, "ColorSpace \"{}\" is not supported yet (only \"srgb\")",
+                                  cs.type);
+        });
     if (!m_d.accelerator.type.empty())
         warning(m_d.accelerator.loc,
                 fmt::format("Accelerator \"{}\" ignored: steradian always uses Embree",
                             m_d.accelerator.type));
     for (const Param& p : m_d.options.params())
         if (p.name != "seed") warning(p.loc, fmt::format("Option \"{}\" is ignored", p.name));
-    build_film();
-    build_camera();
-    build_filter();
-    build_sampler();
-    build_integrator();
+    // What is unsupported in one of them is recorded, and pbrt-v4's default stands in.
+    auto or_default = [&](const auto& desc, auto make) {
+        if (recorded([&] { (this->*make)(desc); })) return;
+        auto d = desc;
+        d.type.clear();
+        d.params = ParamSet();
+        (this->*make)(d);
+    };
+    or_default(m_d.film, &Builder::build_film);
+    or_default(m_d.camera, &Builder::build_camera);
+    or_default(m_d.filter, &Builder::build_filter);
+    or_default(m_d.sampler, &Builder::build_sampler);
+    or_default(m_d.integrator, &Builder::build_integrator);
 }
 
-void Builder::build_film() {
-    const EntityDesc& f = m_d.film;
+void Builder::build_film(const EntityDesc& f) {
     FilmParams fp;
     if (!f.type.empty() && f.type != "rgb") unsupported(f, "Film");
     const ParamSet& ps = f.params;
@@ -63,9 +73,18 @@ void Builder::build_film() {
         throw_error(f.loc, "the crop window / pixel bounds select no pixels");
     Float iso = ps.get_float("iso", 100);
     m_exposure_iso = iso / 100;
+    // pbrt-v3's film "scale": pbrt-v4 reports it as an unused parameter, and its --upgrade
+    // rewrites it as "iso" 100 x scale. We read it as that upgrade would, with a warning.
+    if (const Param* sc = ps.find("scale")) {
+        const Float scale = ps.get_float("scale", 1);
+        warning(sc->loc, fmt::format("Film \"{}\": \"scale\" is pbrt-v3's (pbrt-v4 rejects "
+                                     "it); read as pbrt-v4's --upgrade does, as \"iso\" x {}",
+                                     f.type.empty() ? "rgb" : f.type, scale));
+        m_exposure_iso *= scale;
+    }
     std::string sensor = ps.get_string("sensor", "cie1931");
     if (sensor != "cie1931")
-        throw_error(f.loc, "sensor \"{}\" is not supported yet (only \"cie1931\")", sensor);
+        throw_unsupported(f.loc, "sensor \"{}\" is not supported yet (only \"cie1931\")", sensor);
     Float wb = ps.get_float("whitebalance", 0);
     if (wb > 0) {
         // White balance from the CIE daylight illuminant of that temperature.
@@ -82,8 +101,7 @@ void Builder::build_film() {
     m_s.film = fp;
 }
 
-void Builder::build_camera() {
-    const CameraDesc& c = m_d.camera;
+void Builder::build_camera(const CameraDesc& c) {
     std::string type = c.type.empty() ? "perspective" : c.type;
     const ParamSet& ps = c.params;
     CameraParams cp;
@@ -128,8 +146,7 @@ void Builder::build_camera() {
     }
 }
 
-void Builder::build_filter() {
-    const EntityDesc& f = m_d.filter;
+void Builder::build_filter(const EntityDesc& f) {
     std::string type = f.type.empty() ? "gaussian" : f.type;
     const ParamSet& ps = f.params;
     FilterType t;
@@ -152,8 +169,7 @@ void Builder::build_filter() {
     m_s.filter = std::make_unique<Filter>(t, r, sigma);
 }
 
-void Builder::build_sampler() {
-    const EntityDesc& s = m_d.sampler;
+void Builder::build_sampler(const EntityDesc& s) {
     std::string type = s.type.empty() ? "zsobol" : s.type;
     const ParamSet& ps = s.params;
     SamplerSettings ss;
@@ -199,8 +215,7 @@ void Builder::build_sampler() {
     m_s.sampler = ss;
 }
 
-void Builder::build_integrator() {
-    const EntityDesc& e = m_d.integrator;
+void Builder::build_integrator(const EntityDesc& e) {
     std::string type = e.type.empty() ? "volpath" : e.type;
     const ParamSet& ps = e.params;
     IntegratorSettings is;
@@ -210,7 +225,7 @@ void Builder::build_integrator() {
                     "Integrator \"volpath\" is rendered by \"path\" (no participating media)");
         is.max_depth = ps.get_int("maxdepth", 5);
         is.regularize = ps.get_bool("regularize", false);
-        if (is.regularize) throw_error(e.loc, "\"regularize\" is not supported yet");
+        if (is.regularize) throw_unsupported(e.loc, "\"regularize\" is not supported yet");
         std::string strategy = ps.get_string("strategy", "mis");
         if (strategy == "mis")
             is.strategy = LightStrategy::Mis;

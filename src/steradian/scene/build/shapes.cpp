@@ -67,7 +67,7 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
         std::string file = ps.get_string("filename", "");
         if (file.empty()) throw_error(s.loc, "{}: \"filename\" is required", what);
         if (ps.find("displacement"))
-            throw_error(s.loc, "{}: \"displacement\" is not supported yet", what);
+            throw_unsupported(s.loc, "{}: \"displacement\" is not supported yet", what);
         ps.get_float("edgelength", 1);
         check_alpha(s);
         ps.check_unused(what);
@@ -146,7 +146,8 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
         ps.check_unused(what);
         return c;
     }
-    throw_error(s.loc, "shape type \"{}\" is not supported yet (see docs/pbrt-support.md)", s.type);
+    throw_unsupported(s.loc, "shape type \"{}\" is not supported yet (see docs/pbrt-support.md)",
+                      s.type);
 }
 
 void Builder::check_alpha(const ShapeDesc& s) {
@@ -154,8 +155,9 @@ void Builder::check_alpha(const ShapeDesc& s) {
     if (const Param* a = s.params.find("alpha")) {
         if (a->type == ParamType::Float && a->numbers.size() == 1 && a->numbers[0] == 1) return;
         if (s.type == "sphere")
-            throw_error(a->loc, "\"alpha\" cut-outs of spheres are not supported yet (triangle "
-                                "meshes, bilinear meshes, PLY meshes and disks have them)");
+            throw_unsupported(a->loc,
+                              "\"alpha\" cut-outs of spheres are not supported yet (triangle "
+                              "meshes, bilinear meshes, PLY meshes and disks have them)");
     }
 }
 
@@ -279,10 +281,10 @@ void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
     e.alpha = alpha_mask(s);
     int index = int(m_s.shapes.size());
     if (s.area_light >= 0 && std::holds_alternative<Cylinder>(e.geometry))
-        throw_error(s.loc, "an emitting cylinder (area light) is not supported yet");
+        throw_unsupported(s.loc, "an emitting cylinder (area light) is not supported yet");
     if (s.area_light >= 0 && e.alpha)
-        throw_error(s.params.find("alpha")->loc,
-                    "\"alpha\" on an emitting shape (area light) is not supported yet");
+        throw_unsupported(s.params.find("alpha")->loc,
+                          "\"alpha\" on an emitting shape (area light) is not supported yet");
     if (s.area_light >= 0) {
         if (proto)
             throw_error(s.loc, "area lights are not supported inside ObjectBegin (as in pbrt-v4)");
@@ -305,7 +307,7 @@ void Builder::build_instances() {
     for (const auto& [name, def] : m_d.instances) {
         Prototype p;
         p.name = name;
-        for (const ShapeDesc& s : def.shapes) add_shape(s, &p);
+        for (const ShapeDesc& s : def.shapes) recorded([&] { add_shape(s, &p); });
         proto_index[name] = int(m_s.prototypes.size());
         m_s.prototypes.push_back(std::move(p));
     }

@@ -77,119 +77,132 @@ UvMapping Builder::read_mapping(const TextureDesc& t, const ParamSet& ps) {
 }
 
 void Builder::build_textures() {
-    for (const TextureDesc& t : m_d.float_textures) {
-        const ParamSet& ps = t.params;
-        FloatTexture tex;
-        if (t.type == "constant") {
-            tex = ConstantFloatTexture{ps.get_float("value", 1)};
-        } else if (t.type == "imagemap") {
-            ImageFloatTexture it;
-            it.mapping = read_mapping(t, ps);
-            it.image = load_image(t, ps);
-            it.scale = ps.get_float("scale", 1);
-            it.invert = ps.get_bool("invert", false);
-            ps.get_string("filter", "bilinear");
-            ps.get_float("maxanisotropy", 8);
-            tex = it;
-        } else if (t.type == "scale") {
-            tex = ScaleFloatTexture{float_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
-        } else if (t.type == "mix") {
-            tex = MixFloatTexture{float_tex_arg(ps, "tex1", 0), float_tex_arg(ps, "tex2", 1),
-                                  float_tex_arg(ps, "amount", 0.5f)};
-        } else if (t.type == "checkerboard") {
-            check_checkerboard_dimension(t, ps);
-            tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1),
-                                           float_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
+    // A texture that cannot be built is recorded, and a constant 1 stands in under its name.
+    for (const TextureDesc& t : m_d.float_textures)
+        if (!recorded([&] { build_float_texture(t); })) {
+            m_float_tex[t.name] = int(m_s.float_textures.size());
+            m_s.float_textures.push_back(ConstantFloatTexture{1});
+        }
+    for (const TextureDesc& t : m_d.spectrum_textures)
+        if (!recorded([&] { build_spectrum_texture(t); })) {
+            m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+            m_s.spectrum_textures.push_back(
+                ConstantSpectrumTexture{densely_sampled(ConstantSpectrum{1})});
+        }
+}
+
+void Builder::build_float_texture(const TextureDesc& t) {
+    const ParamSet& ps = t.params;
+    FloatTexture tex;
+    if (t.type == "constant") {
+        tex = ConstantFloatTexture{ps.get_float("value", 1)};
+    } else if (t.type == "imagemap") {
+        ImageFloatTexture it;
+        it.mapping = read_mapping(t, ps);
+        it.image = load_image(t, ps);
+        it.scale = ps.get_float("scale", 1);
+        it.invert = ps.get_bool("invert", false);
+        ps.get_string("filter", "bilinear");
+        ps.get_float("maxanisotropy", 8);
+        tex = it;
+    } else if (t.type == "scale") {
+        tex = ScaleFloatTexture{float_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
+    } else if (t.type == "mix") {
+        tex = MixFloatTexture{float_tex_arg(ps, "tex1", 0), float_tex_arg(ps, "tex2", 1),
+                              float_tex_arg(ps, "amount", 0.5f)};
+    } else if (t.type == "checkerboard") {
+        check_checkerboard_dimension(t, ps);
+        tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1), float_tex_arg(ps, "tex2", 0),
+                                       read_mapping(t, ps)};
+    } else if (t.type == "directionmix") {
+        tex = DirectionMixFloatTexture{float_tex_arg(ps, "tex1", 0), float_tex_arg(ps, "tex2", 1),
+                                       mix_direction(t, ps)};
+    } else if (t.type == "fbm" || t.type == "wrinkled" || t.type == "windy") {
+        NoiseFloatTexture n;
+        n.kind = t.type == "fbm"        ? NoiseFloatTexture::Kind::Fbm
+                 : t.type == "wrinkled" ? NoiseFloatTexture::Kind::Wrinkled
+                                        : NoiseFloatTexture::Kind::Windy;
+        check_transform(t.world_from_texture, t.loc, "the texture's space");
+        n.texture_from_world = t.world_from_texture.inverse();
+        if (n.kind != NoiseFloatTexture::Kind::Windy) {
+            n.octaves = ps.get_int("octaves", 8);
+            n.omega = ps.get_float("roughness", 0.5f);
+            if (n.octaves < 0 || n.octaves > 64)
+                throw_error(t.loc, "Texture \"{}\": \"octaves\" must be from 0 to 64", t.name);
+        }
+        tex = n;
+    } else if (t.type == "dots") {
+        tex = DotsFloatTexture{read_mapping(t, ps), float_tex_arg(ps, "inside", 1),
+                               float_tex_arg(ps, "outside", 0)};
+    } else if (t.type == "bilerp") {
+        tex =
+            BilerpFloatTexture{read_mapping(t, ps), ps.get_float("v00", 0), ps.get_float("v01", 1),
+                               ps.get_float("v10", 0), ps.get_float("v11", 1)};
+    } else {
+        unsupported(t, "Texture");
+    }
+    ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+    m_float_tex[t.name] = int(m_s.float_textures.size());
+    m_s.float_textures.push_back(tex);
+}
+
+void Builder::build_spectrum_texture(const TextureDesc& t) {
+    const ParamSet& ps = t.params;
+    if (t.type == "constant") {
+        const Param* v = ps.find_spectrum("value");
+        Spectrum s = v ? spectrum_from_param(*v, SpectrumKind::Albedo, m_d.base_dir)
+                       : Spectrum(ConstantSpectrum{1});
+        ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+        m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+        m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
+    } else if (t.type == "imagemap") {
+        build_rgb_uplift_table();  // per-lookup RGB uplift (once per process)
+        ImageSpectrumTexture it;
+        it.mapping = read_mapping(t, ps);
+        it.image = load_image(t, ps);
+        it.scale = ps.get_float("scale", 1);
+        it.invert = ps.get_bool("invert", false);
+        ps.get_string("filter", "bilinear");
+        ps.get_float("maxanisotropy", 8);
+        ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+        m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+        m_s.spectrum_textures.push_back(it);
+    } else if (t.type == "scale" || t.type == "mix" || t.type == "checkerboard" ||
+               t.type == "directionmix" || t.type == "bilerp" || t.type == "dots") {
+        SpectrumTexture tex;
+        if (t.type == "dots") {
+            tex = DotsSpectrumTexture{read_mapping(t, ps), spectrum_tex_arg(ps, "inside", 1),
+                                      spectrum_tex_arg(ps, "outside", 0)};
         } else if (t.type == "directionmix") {
-            tex = DirectionMixFloatTexture{float_tex_arg(ps, "tex1", 0),
-                                           float_tex_arg(ps, "tex2", 1), mix_direction(t, ps)};
-        } else if (t.type == "fbm" || t.type == "wrinkled" || t.type == "windy") {
-            NoiseFloatTexture n;
-            n.kind = t.type == "fbm"        ? NoiseFloatTexture::Kind::Fbm
-                     : t.type == "wrinkled" ? NoiseFloatTexture::Kind::Wrinkled
-                                            : NoiseFloatTexture::Kind::Windy;
-            check_transform(t.world_from_texture, t.loc, "the texture's space");
-            n.texture_from_world = t.world_from_texture.inverse();
-            if (n.kind != NoiseFloatTexture::Kind::Windy) {
-                n.octaves = ps.get_int("octaves", 8);
-                n.omega = ps.get_float("roughness", 0.5f);
-                if (n.octaves < 0 || n.octaves > 64)
-                    throw_error(t.loc, "Texture \"{}\": \"octaves\" must be from 0 to 64", t.name);
-            }
-            tex = n;
-        } else if (t.type == "dots") {
-            tex = DotsFloatTexture{read_mapping(t, ps), float_tex_arg(ps, "inside", 1),
-                                   float_tex_arg(ps, "outside", 0)};
+            tex =
+                DirectionMixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
+                                            spectrum_tex_arg(ps, "tex2", 1), mix_direction(t, ps)};
         } else if (t.type == "bilerp") {
-            tex = BilerpFloatTexture{read_mapping(t, ps), ps.get_float("v00", 0),
-                                     ps.get_float("v01", 1), ps.get_float("v10", 0),
-                                     ps.get_float("v11", 1)};
+            auto corner = [&](std::string_view name, Float def) {
+                const Param* p = ps.find_spectrum(name);
+                return p ? Spectrum(densely_sampled(
+                               spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir)))
+                         : Spectrum(ConstantSpectrum{def});
+            };
+            tex = BilerpSpectrumTexture{read_mapping(t, ps), corner("v00", 0), corner("v01", 1),
+                                        corner("v10", 0), corner("v11", 1)};
+        } else if (t.type == "scale") {
+            tex =
+                ScaleSpectrumTexture{spectrum_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
+        } else if (t.type == "mix") {
+            tex =
+                MixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0), spectrum_tex_arg(ps, "tex2", 1),
+                                   float_tex_arg(ps, "amount", 0.5f)};
         } else {
-            unsupported(t, "Texture");
+            check_checkerboard_dimension(t, ps);
+            tex = CheckerboardSpectrumTexture{spectrum_tex_arg(ps, "tex1", 1),
+                                              spectrum_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
         }
         ps.check_unused(fmt::format("Texture \"{}\"", t.name));
-        m_float_tex[t.name] = int(m_s.float_textures.size());
-        m_s.float_textures.push_back(tex);
-    }
-    for (const TextureDesc& t : m_d.spectrum_textures) {
-        const ParamSet& ps = t.params;
-        if (t.type == "constant") {
-            const Param* v = ps.find_spectrum("value");
-            Spectrum s = v ? spectrum_from_param(*v, SpectrumKind::Albedo, m_d.base_dir)
-                           : Spectrum(ConstantSpectrum{1});
-            ps.check_unused(fmt::format("Texture \"{}\"", t.name));
-            m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
-            m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
-        } else if (t.type == "imagemap") {
-            build_rgb_uplift_table();  // per-lookup RGB uplift (once per process)
-            ImageSpectrumTexture it;
-            it.mapping = read_mapping(t, ps);
-            it.image = load_image(t, ps);
-            it.scale = ps.get_float("scale", 1);
-            it.invert = ps.get_bool("invert", false);
-            ps.get_string("filter", "bilinear");
-            ps.get_float("maxanisotropy", 8);
-            ps.check_unused(fmt::format("Texture \"{}\"", t.name));
-            m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
-            m_s.spectrum_textures.push_back(it);
-        } else if (t.type == "scale" || t.type == "mix" || t.type == "checkerboard" ||
-                   t.type == "directionmix" || t.type == "bilerp" || t.type == "dots") {
-            SpectrumTexture tex;
-            if (t.type == "dots") {
-                tex = DotsSpectrumTexture{read_mapping(t, ps), spectrum_tex_arg(ps, "inside", 1),
-                                          spectrum_tex_arg(ps, "outside", 0)};
-            } else if (t.type == "directionmix") {
-                tex = DirectionMixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
-                                                  spectrum_tex_arg(ps, "tex2", 1),
-                                                  mix_direction(t, ps)};
-            } else if (t.type == "bilerp") {
-                auto corner = [&](std::string_view name, Float def) {
-                    const Param* p = ps.find_spectrum(name);
-                    return p ? Spectrum(densely_sampled(
-                                   spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir)))
-                             : Spectrum(ConstantSpectrum{def});
-                };
-                tex = BilerpSpectrumTexture{read_mapping(t, ps), corner("v00", 0),
-                                            corner("v01", 1), corner("v10", 0), corner("v11", 1)};
-            } else if (t.type == "scale") {
-                tex = ScaleSpectrumTexture{spectrum_tex_arg(ps, "tex", 1),
-                                           float_tex_arg(ps, "scale", 1)};
-            } else if (t.type == "mix") {
-                tex = MixSpectrumTexture{spectrum_tex_arg(ps, "tex1", 0),
-                                         spectrum_tex_arg(ps, "tex2", 1),
-                                         float_tex_arg(ps, "amount", 0.5f)};
-            } else {
-                check_checkerboard_dimension(t, ps);
-                tex = CheckerboardSpectrumTexture{spectrum_tex_arg(ps, "tex1", 1),
-                                                  spectrum_tex_arg(ps, "tex2", 0),
-                                                  read_mapping(t, ps)};
-            }
-            ps.check_unused(fmt::format("Texture \"{}\"", t.name));
-            m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
-            m_s.spectrum_textures.push_back(std::move(tex));
-        } else {
-            unsupported(t, "Texture");
-        }
+        m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+        m_s.spectrum_textures.push_back(std::move(tex));
+    } else {
+        unsupported(t, "Texture");
     }
 }
 
@@ -197,8 +210,8 @@ void Builder::build_textures() {
 void Builder::check_checkerboard_dimension(const TextureDesc& t, const ParamSet& ps) {
     int dim = ps.get_int("dimension", 2);
     if (dim == 3)
-        throw_error(ps.find("dimension")->loc,
-                    "Texture \"{}\": 3D checkerboards are not supported yet", t.name);
+        throw_unsupported(ps.find("dimension")->loc,
+                          "Texture \"{}\": 3D checkerboards are not supported yet", t.name);
     if (dim != 2)
         throw_error(ps.find("dimension")->loc,
                     "Texture \"{}\": \"dimension\" must be 2 or 3, not {}", t.name, dim);

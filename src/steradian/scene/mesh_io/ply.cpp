@@ -886,7 +886,19 @@ TriangleMeshData read_ply(const std::string& path) {
     auto buffer = std::make_unique_for_overwrite<char[]>(size > 0 ? size : 1);
     const std::size_t got = std::fread(buffer.get(), 1, size, file.get());
     if (got != size) fail(path, 0, "read error after {} of {} bytes", got, size);
-    return parse_ply(std::string_view(buffer.get(), size), path);
+    const std::string_view bytes(buffer.get(), size);
+    // gzip data (".ply.gz", as pbrt-v4 reads through zlib) is decompressed in memory.
+    if (is_gzip(bytes)) {
+        GunzipBytes plain;
+        try {
+            plain = gunzip_bytes(bytes, kMaxSceneFileBytes);
+        } catch (const Error& e) {
+            fail(path, 0, "{}", e.what());
+        }
+        buffer.reset();
+        return parse_ply(plain.view(), path);
+    }
+    return parse_ply(bytes, path);
 }
 
 }  // namespace sr

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "steradian/core/error.h"
+#include "steradian/core/input_file.h"
 #include "steradian/scene/mesh_io/mesh.h"
 
 namespace sr {
@@ -289,6 +290,20 @@ TEST_P(PlyFormats, NormalsUvAndMixedQuads) {
     expect_points(m.n, g.n);
     expect_uvs(m.uv, g.uv);
     EXPECT_EQ(m.indices, g.tri_indices);
+}
+
+TEST_P(PlyFormats, GzipCompressedReadsAsTheUncompressed) {
+    // pbrt-v4 reads ".ply.gz" through zlib; we decompress in memory.
+    const RandomGrid g = random_grid(9, 4, /*quads=*/true, 3);
+    const std::string bytes =
+        write_ply(GetParam(), {full_vertex_element(g), face_element(g.faces)});
+    const TriangleMeshData m = read_bytes(gzip_compress(bytes));
+    expect_points(m.p, g.p);
+    expect_points(m.n, g.n);
+    expect_uvs(m.uv, g.uv);
+    EXPECT_EQ(m.indices, g.tri_indices);
+    const std::string gz = gzip_compress(bytes);
+    expect_error(gz.substr(0, gz.size() - 12), "{path}: truncated gzip data");
 }
 
 TEST_P(PlyFormats, DoublePositions) {

@@ -35,11 +35,13 @@
 //   parameters override both). Merged copies are marked used, as pbrt-v4 lets them go
 //   unused. "light" applies to LightSource and AreaLightSource, "material" to Material
 //   and MakeNamedMaterial; "medium" is accepted and has no effect (media are ignored).
-// - Include is textual (shared graphics state). Import parses the file with a copy of the
-//   graphics state that is discarded afterwards, as pbrt-v4 does with its separate builder;
-//   definitions it makes (shapes, lights, named materials, textures, objects) are global.
-//   Named coordinate systems defined inside an Import are discarded too (pbrt-v4 starts
-//   the imported file with none; we keep the importer's visible, a superset).
+// - Include is textual (shared graphics state) and token-transparent: the included file's
+//   tokens are spliced into the including file's stream (pbrt-v4's file stack), so a
+//   parameter list at the end of an included file continues after the Include. Import parses the
+//   file with a copy of the graphics state that is discarded afterwards, as pbrt-v4 does with its
+//   separate builder; definitions it makes (shapes, lights, named materials, textures, objects) are
+//   global. Named coordinate systems defined inside an Import are discarded too (pbrt-v4 starts the
+//   imported file with none; we keep the importer's visible, a superset).
 // - Relative Include/Import paths resolve against the main scene file's directory, as in
 //   pbrt-v4; if the file is not there, against the including file's directory.
 // - Duplicate parameters in one list are an error (pbrt-v4 silently uses the last one).
@@ -256,20 +258,24 @@ std::string Parser::resolve(const std::string& name, const std::string& dir, std
     throw_error(loc, "{}: cannot find file \"{}\" (looked in \"{}\")", what, name, m_base_dir);
 }
 
-void Parser::include(Stream& s, const std::string& dir, int depth, const SourceLoc& loc,
-                     bool import) {
+void Parser::include(Stream& s, const SourceLoc& loc, bool import) {
     const char* what = import ? "Import" : "Include";
     if (import && !m_in_world)
         throw_error(loc, "Import is only allowed after WorldBegin (in the world block)");
+    // The directive's own file (the name could come from a file that follows it).
+    const std::string dir = s.dir();
+    const int depth = s.depth();
     std::string name(s.expect_string(what).text);
     if (depth >= 64)
         throw_error(loc, "{} nesting is deeper than 64 files (does a file include itself?)", what);
     std::string path = resolve(name, dir, what, loc);
     std::unique_ptr<Tokenizer> tz = Tokenizer::from_file(path, &loc);
     if (!import) {
-        parse(*tz, parent_dir(path), depth + 1);
+        // Token-transparent, as pbrt-v4: the included file's tokens continue this stream.
+        s.push(std::move(tz), parent_dir(path), depth + 1);
         return;
     }
+    // Import parses the file as a stream of its own (pbrt-v4 gives it its own parser).
     GraphicsState saved = m_gs;
     auto saved_coordsys = m_coordsys;
     size_t saved_floor = m_stack_floor;
@@ -290,9 +296,10 @@ void Parser::include(Stream& s, const std::string& dir, int depth, const SourceL
 }
 
 void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
-    Stream s(tz);
+    Stream s(tz, dir, depth);
     Token tok;
     while (s.next(tok)) {
+        s.release_finished();  // no token of an earlier directive is in use any more
         SourceLoc loc = s.loc(tok);
         if (tok.kind != TokenKind::Identifier)
             throw_error(loc, "expected a directive, got {}{}", describe(tok),
@@ -560,10 +567,10 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
 
             // -- files
             case Dir::Include:
-                include(s, dir, depth, loc, false);
+                include(s, loc, false);
                 break;
             case Dir::Import:
-                include(s, dir, depth, loc, true);
+                include(s, loc, true);
                 break;
         }
     }

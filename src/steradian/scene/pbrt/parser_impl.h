@@ -78,7 +78,7 @@ class Parser {
     void active_transform(Stream& s, const SourceLoc& loc);
     std::string resolve(const std::string& name, const std::string& dir, std::string_view what,
                         const SourceLoc& loc) const;
-    void include(Stream& s, const std::string& dir, int depth, const SourceLoc& loc, bool import);
+    void include(Stream& s, const SourceLoc& loc, bool import);
 
     SceneDesc m_scene;
     GraphicsState m_gs;

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <random>
 
+#include "steradian/core/input_file.h"
+
 namespace sr {
 namespace {
 
@@ -63,7 +65,7 @@ struct TempDir {
     std::string write(const std::string& rel, const std::string& text) const {
         fs::path p = path / rel;
         fs::create_directories(p.parent_path());
-        std::ofstream(p) << text;
+        std::ofstream(p, std::ios::binary) << text;
         return p.string();
     }
 };
@@ -466,6 +468,86 @@ AttributeEnd
     EXPECT_EQ(s.shapes[1].loc.line, 2);
     EXPECT_EQ(s.shapes[1].loc.column, 3);
     EXPECT_EQ(s.shapes[2].material.index, 0);  // set inside the included file
+}
+
+TEST_F(PbrtParser, IncludeIsTokenTransparent) {
+    // pbrt-v4 pushes an included file on its token stream's file stack: a parameter list
+    // left open at the end of the included file goes on after the Include, as in pbrt-v4's
+    // smoke-plume scene ("Include density.pbrt" followed by "spectrum sigma_a" ...).
+    TempDir dir;
+    std::string inc = dir.write("geometry/head.pbrt", "Shape \"sphere\"\n  \"float radius\" 2\n");
+    std::string main = dir.write("scene.pbrt", R"(WorldBegin
+Include "geometry/head.pbrt"
+    "float zmax" 0.5 "float phimax" [ 90 ]
+Shape "disk"
+)");
+    SceneDesc s = parse_pbrt_file(main);
+    ASSERT_EQ(s.shapes.size(), 2u);
+    const ParamSet& p = s.shapes[0].params;
+    EXPECT_EQ(p.get_float("radius", 1), 2.0f);
+    EXPECT_EQ(p.get_float("zmax", 1), 0.5f);
+    EXPECT_EQ(p.get_float("phimax", 360), 90.0f);
+    EXPECT_EQ(s.shapes[0].loc.file, inc);
+    EXPECT_EQ(p.find("radius")->loc.to_string(), inc + ":2:3");
+    EXPECT_EQ(p.find("zmax")->loc.to_string(), main + ":3:5");
+    EXPECT_EQ(s.shapes[1].type, "disk");
+    // An error in the spliced part is located in the including file.
+    dir.write("bad.pbrt", "WorldBegin\nInclude \"geometry/head.pbrt\"\n  \"float zmax\" \"x\"\n");
+    try {
+        parse_pbrt_file((dir.path / "bad.pbrt").string());
+        ADD_FAILURE() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.loc().to_string(), (dir.path / "bad.pbrt").string() + ":3:16") << e.what();
+    }
+}
+
+TEST_F(PbrtParser, GzipCompressedIncludeAndSceneParseAsTheirText) {
+    TempDir dir;
+    const std::string inc_text = "Material \"conductor\"\nShape \"sphere\" \"float radius\" 3\n";
+    dir.write("parts.pbrt", inc_text);
+    const std::string gz_inc = dir.write("parts.pbrt.gz", gzip_compress(inc_text));
+    const std::string main_text = "WorldBegin\nInclude \"parts.pbrt\"\nShape \"disk\"\n";
+    std::string plain = dir.write("plain.pbrt", main_text);
+    std::string gz = dir.write(
+        "scene.pbrt.gz", gzip_compress("WorldBegin\nInclude \"parts.pbrt.gz\"\nShape \"disk\"\n"));
+    SceneDesc a = parse_pbrt_file(plain), b = parse_pbrt_file(gz);
+    ASSERT_EQ(b.shapes.size(), 2u);
+    ASSERT_EQ(a.shapes.size(), 2u);
+    EXPECT_EQ(b.shapes[0].params.get_float("radius", 1), 3.0f);
+    EXPECT_EQ(b.shapes[0].material.index, 0);
+    EXPECT_EQ(b.shapes[0].loc.to_string(), gz_inc + ":2:1");  // the .gz file, its text's line
+    EXPECT_EQ(b.shapes[1].loc.to_string(), gz + ":3:1");
+    EXPECT_EQ(a.shapes[1].loc.line, b.shapes[1].loc.line);
+    // An error in the decompressed text names the .gz file, line and column.
+    std::string bad =
+        dir.write("bad.pbrt.gz", gzip_compress("WorldBegin\n\n  Shape \"sphere\" \"flot r\" 1\n"));
+    try {
+        parse_pbrt_file(bad);
+        ADD_FAILURE() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.loc().to_string(), bad + ":3:18") << e.what();
+    }
+}
+
+TEST_F(PbrtParser, ErrorTruncatedOrMisnamedGzipInclude) {
+    TempDir dir;
+    const std::string gz = gzip_compress("WorldBegin\nShape \"sphere\"\n");
+    dir.write("cut.pbrt.gz", gz.substr(0, gz.size() / 2));
+    dir.write("plain.pbrt.gz", "Shape \"sphere\"\n");
+    for (const char* name : {"cut.pbrt.gz", "plain.pbrt.gz"}) {
+        try {
+            parse_pbrt_string(fmt::format("WorldBegin\n  Include \"{}\"\n", name), "main.pbrt",
+                              dir.path.string());
+            ADD_FAILURE() << "expected an error for " << name;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.loc().to_string(), "main.pbrt:2:3") << e.what();
+            EXPECT_NE(e.message().find(name), std::string::npos) << e.what();
+            EXPECT_NE(e.message().find(std::string(name) == "cut.pbrt.gz" ? "truncated gzip data"
+                                                                          : "not gzip data"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
 }
 
 TEST_F(PbrtParser, ImportDoesNotLeakGraphicsState) {

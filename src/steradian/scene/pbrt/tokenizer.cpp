@@ -74,14 +74,19 @@ std::unique_ptr<Tokenizer> Tokenizer::from_file(const std::string& path, const S
         std::string msg = fmt::format("cannot read scene file \"{}\": {}", path, why);
         throw Error(where ? *where : SourceLoc{}, msg);  // an empty loc prints no prefix
     };
-    if (path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0)
-        return fail("gzip-compressed scene files are not supported; decompress it first");
+    // gzip data is decompressed in memory, whatever the name (pbrt-v4 goes by the name:
+    // it decompresses a ".gz" file and rejects one that is not gzip data, as we do).
     std::string contents;
+    bool gz = false;
     try {
-        contents = read_regular_file(path, kMaxSceneFileBytes, "scene file");
+        contents = read_input_file(path, kMaxSceneFileBytes, "scene file", &gz);
     } catch (const Error& e) {
         throw Error(where ? *where : SourceLoc{}, e.what());
     }
+    if (!gz && path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0)
+        return fail(
+            "the name ends in \".gz\" but the file is not gzip data (it does not "
+            "start with the bytes 1f 8b)");
     return std::make_unique<Tokenizer>(std::move(contents), path);
 }
 
@@ -107,6 +112,7 @@ bool Tokenizer::next(Token& t) {
 
         const char* start = m_pos;
         char c = *start;
+        t.file = &m_filename;
         t.line = m_line;
         t.column = int(start - m_line_start) + 1;
         switch (c) {

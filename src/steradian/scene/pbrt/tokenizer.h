@@ -28,6 +28,7 @@ struct Token {
     std::string_view text;
     int line = 0;
     int column = 0;
+    const std::string* file = nullptr;  ///< the Tokenizer's file name (lives as long as it)
 };
 
 /// Streaming tokenizer over a whole file held in memory. Lexical errors (unterminated
