@@ -45,33 +45,40 @@ Shape "sphere" "float radius" [ 1 ]
     EXPECT_EQ(r.stats.nonfinite, 0u);
 }
 
-// An emitter so bright (1e38, near the float range) that its radiance over the wavelength
-// pdfs overflows: every sample is non-finite, so each is counted and dropped, and the image
-// holds no NaN or Inf (it is black). At 1e36 the same emitter's samples are all finite and
-// the image is its radiance (the sRGB of rgb L = (1, 1, 1) scaled: every channel near 1e36).
+// An emitter so bright (1e38 nits, near the float range) that its radiance over the
+// wavelength pdfs overflows: every sample is non-finite, so each is counted and dropped, and
+// the image holds no NaN or Inf (it is black). At 1e36 the same emitter's samples are all
+// finite and the image is its radiance (every channel near 1e36). The emitter is a disk of
+// radius 1 mm, which every pixel of the orthographic view sees, so that its total power
+// stays within float range; a light whose power (or spectrum) overflows is an error at its
+// directive: the last cases.
 TEST(Analytic, OverflowingSamplesAreCountedAndNeverReachTheImage) {
-    auto scene = [](const char* l) {
+    auto scene = [](const char* l, const char* scale, const char* radius) {
         return fmt::format(R"(
 LookAt 0 0 5  0 0 0  0 1 0
-Camera "perspective" "float fov" [ 30 ]
+Camera "orthographic" "float screenwindow" [ -5e-4 5e-4 -5e-4 5e-4 ]
 Film "rgb" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ] "string filename" "x.exr"
 Sampler "independent" "integer pixelsamples" [ 4 ]
 WorldBegin
-AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ]
-Shape "disk" "float radius" [ 10 ]
+AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "float scale" [ {1} ]
+Shape "disk" "float radius" [ {2} ]
 )",
-                           l);
+                           l, scale, radius);
     };
-    Rendered huge = render_string(scene("1e38"));
+    Rendered huge = render_string(scene("1", "1e38", "1e-3"));
     EXPECT_EQ(huge.stats.nonfinite, 4u * 4u * 4u);
     for (float v : huge.rgb.data) EXPECT_TRUE(std::isfinite(v)) << v;
-    Rendered big = render_string(scene("1e36"));
+    Rendered big = render_string(scene("1", "1e36", "1e-3"));
     EXPECT_EQ(big.stats.nonfinite, 0u);
     for (float v : big.rgb.data) {
         EXPECT_TRUE(std::isfinite(v));
         EXPECT_GT(v, 1e35f);
         EXPECT_LT(v, 1e37f);
     }
+    // pi L A over a disk of radius 10 overflows a float; so does an RGB of 1e38 (its
+    // spectrum times the illuminant).
+    EXPECT_THROW(render_string(scene("1", "5e37", "10")), Error);
+    EXPECT_THROW(render_string(scene("1e38", "1", "1e-3")), Error);
 }
 
 // The same sphere, emitting Le = 0.5 inwards (ReverseOrientation), albedo 0.5:
