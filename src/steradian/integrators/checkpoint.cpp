@@ -63,22 +63,23 @@ const std::string& Checkpoint::get(const std::string& key) const {
     return it->second;
 }
 
-double Checkpoint::get_double(const std::string& key) const {
-    const std::string& s = get(key);
-    double v = 0;
+/// The whole of a section read as one number of type T (from_chars: the shortest text that
+/// set_number wrote reads back exactly).
+template <typename T>
+T parse_number(const std::string& s, const std::string& path, const std::string& key) {
+    T v{};
     auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
     if (ec != std::errc() || end != s.data() + s.size())
-        throw Error(fmt::format("checkpoint {}: section \"{}\" is not a number", m_path, key));
+        throw Error(fmt::format("checkpoint {}: section \"{}\" is not a number", path, key));
     return v;
 }
 
+double Checkpoint::get_double(const std::string& key) const {
+    return parse_number<double>(get(key), m_path, key);
+}
+
 uint64_t Checkpoint::get_u64(const std::string& key) const {
-    const std::string& s = get(key);
-    uint64_t v = 0;
-    auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || end != s.data() + s.size())
-        throw Error(fmt::format("checkpoint {}: section \"{}\" is not a count", m_path, key));
-    return v;
+    return parse_number<uint64_t>(get(key), m_path, key);
 }
 
 Error Checkpoint::size_error(const std::string& key, size_t got, size_t want) const {
