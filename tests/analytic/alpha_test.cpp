@@ -29,7 +29,8 @@ LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
 )" + textures + R"(
 Material "diffuse" "spectrum reflectance" [ 300 0.5 900 0.5 ]
 Shape "bilinearmesh" "point3 P" [ -1000 -1000 1  1000 -1000 1  -1000 1000 1  1000 1000 1 ]
-    "point2 uv" [ 0 0  1 0  0 1  1 1 ] )" + sheet_params + R"(
+    "point2 uv" [ 0 0  1 0  0 1  1 1 ] )" +
+                             sheet_params + R"(
 Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ] "integer maxdepth" [ 1 ]
 )";
     Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
@@ -89,7 +90,9 @@ Shape "sphere" "float radius" [ 1 ]
     ASSERT_EQ(a.rgb.data.size(), b.rgb.data.size());
     for (size_t i = 0; i < a.rgb.data.size(); ++i) ASSERT_EQ(a.rgb.data[i], b.rgb.data[i]) << i;
     // And an opaque one hides the sphere entirely: its pixels are then all one colour.
-    Rendered c = render_string(base + "Shape \"trianglemesh\" \"point3 P\" [ -3 -3 -2  3 -3 -2  3 3 -2  -3 3 -2 ] \"integer indices\" [ 0 1 2  0 2 3 ]\n");
+    Rendered c = render_string(base +
+                               "Shape \"trianglemesh\" \"point3 P\" [ -3 -3 -2  3 -3 -2  3 3 -2  "
+                               "-3 3 -2 ] \"integer indices\" [ 0 1 2  0 2 3 ]\n");
     EXPECT_NE(a.y[8 * 16 + 8], c.y[8 * 16 + 8]);
 }
 

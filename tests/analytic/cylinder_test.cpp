@@ -33,7 +33,8 @@ LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
 Material "diffuse" "spectrum reflectance" [ 300 0 900 0 ]
 AttributeBegin
   Translate 0 0 -5
-  Shape "cylinder" "float radius" [ 1 ] "float zmin" [ 0 ] "float zmax" [ 7 ] )" + extra + R"(
+  Shape "cylinder" "float radius" [ 1 ] "float zmin" [ 0 ] "float zmax" [ 7 ] )" +
+           extra + R"(
 AttributeEnd
 Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
 )";

@@ -102,8 +102,9 @@ WorldBegin
 LightSource "infinite" "string filename" "const.pfm"
 Material "diffuse" "spectrum reflectance" [ 300 0.8 900 0.8 ]
 Shape "sphere" "float radius" [ 0.8 ]
-)", 2, 0, temp_dir());
-    const MeanSe bg = mean_se(region(r, 0, 0, 32, 3));   // top rows: background only
+)",
+                               2, 0, temp_dir());
+    const MeanSe bg = mean_se(region(r, 0, 0, 32, 3));      // top rows: background only
     const MeanSe obj = mean_se(region(r, 13, 13, 19, 19));  // centre: the sphere only
     const double expected_bg = luminance(0.5, 0.4, 0.3);
     EXPECT_NEAR(bg.mean, expected_bg, kZ * bg.se + kUplift * expected_bg);
@@ -115,7 +116,8 @@ TEST(EnvironmentLight, IlluminanceIsTheQuadratureOfTheRotatedMap) {
     const int res = 32;
     write_map("pattern.pfm", res, res, [](int x, int y, int c) { return pattern(x, y, c, res); });
     // The light turned 40 degrees about x then 25 about y (the CTM rotates the map).
-    const Transform rot = Transform::rotate(25, Vec3d(0, 1, 0)) * Transform::rotate(40, Vec3d(1, 0, 0));
+    const Transform rot =
+        Transform::rotate(25, Vec3d(0, 1, 0)) * Transform::rotate(40, Vec3d(1, 0, 0));
     const Vec3 n = normalize(Vec3(0.3f, 1, -0.2f));
     const double expected = quadrature_illuminance(
         res,

@@ -1,11 +1,11 @@
 #include "steradian/geometry/loop_subdivision.h"
 
+#include <fmt/format.h>
+
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
-
-#include <fmt/format.h>
 
 #include "steradian/core/error.h"
 
@@ -37,9 +37,10 @@ struct Topology {
             for (int k = 0; k < 3; ++k) {
                 Edge& e = edges[edge_key(f[size_t(k)], f[size_t(k + 1) % 3])];
                 if (e.faces == 2)
-                    throw Error(fmt::format("loop subdivision: the edge ({}, {}) belongs to more "
-                                            "than two triangles", f[size_t(k)],
-                                            f[size_t(k + 1) % 3]));
+                    throw Error(
+                        fmt::format("loop subdivision: the edge ({}, {}) belongs to more "
+                                    "than two triangles",
+                                    f[size_t(k)], f[size_t(k + 1) % 3]));
                 e.opposite[e.faces++] = f[size_t(k + 2) % 3];
             }
         // Per vertex, the (a, b) of its faces (v, a, b), v first in the face's winding.
@@ -63,8 +64,10 @@ struct Topology {
             for (const auto& [a, b] : fan) {
                 const int from = on_boundary ? a : b, to = on_boundary ? b : a;
                 if (!next.emplace(from, to).second)
-                    throw Error(fmt::format("loop subdivision: the triangles around vertex {} "
-                                            "do not form one fan (inconsistent winding?)", v));
+                    throw Error(
+                        fmt::format("loop subdivision: the triangles around vertex {} "
+                                    "do not form one fan (inconsistent winding?)",
+                                    v));
             }
             int start = on_boundary ? -1 : fan.front().second;
             if (on_boundary) {
@@ -73,8 +76,10 @@ struct Topology {
                 for (const auto& [from, to] : next)
                     if (!has_prev.count(from)) start = from;
                 if (start < 0)
-                    throw Error(fmt::format("loop subdivision: vertex {} has no open edge to "
-                                            "start its ring from", v));
+                    throw Error(
+                        fmt::format("loop subdivision: vertex {} has no open edge to "
+                                    "start its ring from",
+                                    v));
             }
             std::vector<int>& r = ring[v];
             for (int x = start;;) {
@@ -86,8 +91,10 @@ struct Topology {
             }
             const size_t want = on_boundary ? fan.size() + 1 : fan.size();
             if (r.size() != want)
-                throw Error(fmt::format("loop subdivision: the triangles around vertex {} do not "
-                                        "form one fan", v));
+                throw Error(
+                    fmt::format("loop subdivision: the triangles around vertex {} do not "
+                                "form one fan",
+                                v));
         }
     }
 };
@@ -118,8 +125,8 @@ SubdividedMesh loop_subdivide(const std::vector<Point3>& p_in, const std::vector
     if (levels < 0) throw Error("loop subdivision: \"levels\" must not be negative");
     for (int i : indices)
         if (i < 0 || size_t(i) >= p_in.size())
-            throw Error(fmt::format("loop subdivision: index {} out of range (0..{})", i,
-                                    p_in.size() - 1));
+            throw Error(
+                fmt::format("loop subdivision: index {} out of range (0..{})", i, p_in.size() - 1));
     if (double(indices.size() / 3) * std::pow(4.0, levels) > double(kMaxSubdividedTriangles))
         throw Error(fmt::format("loop subdivision: {} triangles at {} levels make more than {}",
                                 indices.size() / 3, levels, kMaxSubdividedTriangles));
@@ -178,7 +185,7 @@ SubdividedMesh loop_subdivide(const std::vector<Point3>& p_in, const std::vector
     out.p.resize(p.size());
     for (size_t v = 0; v < p.size(); ++v) {
         const auto& ring = topo.ring[v];
-        out.p[v] = ring.empty()           ? p[v]
+        out.p[v] = ring.empty()       ? p[v]
                    : topo.boundary[v] ? weight_boundary(p, int(v), ring, Float(1) / 5)
                                       : weight_one_ring(p, int(v), ring, gamma(int(ring.size())));
     }

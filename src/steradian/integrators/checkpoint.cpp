@@ -1,11 +1,11 @@
 #include "steradian/integrators/checkpoint.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cstdio>
-
-#include <fmt/format.h>
 
 #include "steradian/core/input_file.h"
 #include "steradian/core/output_file.h"
@@ -24,8 +24,7 @@ namespace {
 //   end <hash of everything before "end", 16 hex digits>\n
 constexpr const char* kMagic = "steradian checkpoint\n";
 constexpr int kFormat = 1;
-constexpr const char* kByteOrder =
-    std::endian::native == std::endian::little ? "little" : "big";
+constexpr const char* kByteOrder = std::endian::native == std::endian::little ? "little" : "big";
 /// Checkpoints hold a film's sums (32 bytes a pixel, 2^28 pixels at most) and meter states.
 constexpr uint64_t kMaxCheckpointBytes = uint64_t(16) << 30;
 
@@ -83,8 +82,8 @@ uint64_t Checkpoint::get_u64(const std::string& key) const {
 }
 
 Error Checkpoint::size_error(const std::string& key, size_t got, size_t want) const {
-    return Error(fmt::format("checkpoint {}: section \"{}\" has {} bytes, expected {}", m_path,
-                             key, got, want));
+    return Error(fmt::format("checkpoint {}: section \"{}\" has {} bytes, expected {}", m_path, key,
+                             got, want));
 }
 
 void Checkpoint::expect(const std::string& key, const std::string& value, const std::string& what,
@@ -112,8 +111,7 @@ Checkpoint Checkpoint::load(const std::string& path) {
     auto bad = [&](const std::string& why) {
         return Error(fmt::format("checkpoint {}: {}", path, why));
     };
-    if (data.compare(0, std::strlen(kMagic), kMagic) != 0)
-        throw bad("not a steradian checkpoint");
+    if (data.compare(0, std::strlen(kMagic), kMagic) != 0) throw bad("not a steradian checkpoint");
     // The hash first: whatever the damage (a truncated or altered file), it is reported as
     // such and nothing of it is parsed.
     const size_t end = data.rfind("end ");
@@ -134,7 +132,8 @@ Checkpoint Checkpoint::load(const std::string& path) {
         const size_t sp = line.rfind(' ');
         uint64_t len = 0;
         if (sp == std::string_view::npos || sp == 0 ||
-            std::from_chars(line.data() + sp + 1, line.data() + line.size(), len).ec != std::errc() ||
+            std::from_chars(line.data() + sp + 1, line.data() + line.size(), len).ec !=
+                std::errc() ||
             len > body.size() - pos || body.size() - pos - len < 1 || body[pos + len] != '\n')
             throw bad("a malformed section");
         c.m_sections[std::string(line.substr(0, sp))] = std::string(body.substr(pos, len));

@@ -26,7 +26,7 @@
 namespace sr {
 
 class Checkpoint {
-public:
+  public:
     /// Sections, by name (a name is one line: no '\n').
     void set(const std::string& key, std::string value) { m_sections[key] = std::move(value); }
     void set_number(const std::string& key, double v);
@@ -49,7 +49,8 @@ public:
     std::vector<T> get_array(const std::string& key, size_t count) const {
         static_assert(std::is_trivially_copyable_v<T>);
         const std::string& bytes = get(key);
-        if (bytes.size() != count * sizeof(T)) throw size_error(key, bytes.size(), count * sizeof(T));
+        if (bytes.size() != count * sizeof(T))
+            throw size_error(key, bytes.size(), count * sizeof(T));
         std::vector<T> v(count);
         if (count) std::memcpy(v.data(), bytes.data(), bytes.size());
         return v;
@@ -68,7 +69,7 @@ public:
     void expect(const std::string& key, const std::string& value, const std::string& what,
                 const std::string& hint = "") const;
 
-private:
+  private:
     Error size_error(const std::string& key, size_t got, size_t want) const;
     std::string m_path;
     std::map<std::string, std::string> m_sections;

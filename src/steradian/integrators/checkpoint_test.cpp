@@ -31,12 +31,17 @@ TEST(Checkpoint, SectionsRoundTripBitForBit) {
     c.set("key with spaces", "value\nover lines\n");  // a key ends at its line's last space
     c.set("empty", "");
     // Doubles as text must read back to the same bits, extremes included.
-    const double values[] = {0.1, 1.0 / 3.0, std::numeric_limits<double>::denorm_min(),
-                             std::numeric_limits<double>::max(), -0.0, 6.02214076e23};
+    const double values[] = {0.1,
+                             1.0 / 3.0,
+                             std::numeric_limits<double>::denorm_min(),
+                             std::numeric_limits<double>::max(),
+                             -0.0,
+                             6.02214076e23};
     for (int i = 0; i < 6; ++i) c.set_number("d" + std::to_string(i), values[i]);
     c.set_number("u", uint64_t(18446744073709551615ULL));
     std::vector<PixelSum> sums(5);
-    for (int i = 0; i < 5; ++i) sums[size_t(i)] = {{i * 0.1, std::sqrt(double(i)), -1.0 / (i + 1)}, i / 7.0};
+    for (int i = 0; i < 5; ++i)
+        sums[size_t(i)] = {{i * 0.1, std::sqrt(double(i)), -1.0 / (i + 1)}, i / 7.0};
     c.set_array("film", sums);
     const std::string path = temp_path("roundtrip.ckpt");
     c.save(path);

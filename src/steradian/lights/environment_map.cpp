@@ -1,8 +1,8 @@
 /// Image-based infinite lights: the environment map (equal-area octahedral, or a lat-long
 /// image resampled to one) and the light that rotates it into the scene.
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "steradian/core/error.h"
 #include "steradian/lights/light.h"
@@ -69,11 +69,10 @@ std::vector<float> latlong_to_equal_area(const std::vector<float>& rgb, int w, i
 std::shared_ptr<const EnvironmentMap> make_environment_map(const std::vector<float>& rgb_in,
                                                            int width, int height) {
     if (width <= 0 || height <= 0 || rgb_in.size() != size_t(width) * size_t(height) * 3)
-        throw Error(fmt::format("an environment map needs RGB pixels ({} x {}, {} values)",
-                                width, height, rgb_in.size()));
+        throw Error(fmt::format("an environment map needs RGB pixels ({} x {}, {} values)", width,
+                                height, rgb_in.size()));
     for (float v : rgb_in)
-        if (!std::isfinite(v))
-            throw Error("the environment map has NaN or infinite pixel values");
+        if (!std::isfinite(v)) throw Error("the environment map has NaN or infinite pixel values");
     std::vector<float> rgb;
     int res = 0;
     if (width == height) {
@@ -82,18 +81,22 @@ std::shared_ptr<const EnvironmentMap> make_environment_map(const std::vector<flo
     } else if (width == 2 * height) {
         res = width;
         if (int64_t(res) * res > kMaxEnvironmentTexels)
-            throw Error(fmt::format("a {} x {} lat-long map makes an equal-area map of {} x {} "
-                                    "texels, more than the limit of {}",
-                                    width, height, res, res, kMaxEnvironmentTexels));
+            throw Error(
+                fmt::format("a {} x {} lat-long map makes an equal-area map of {} x {} "
+                            "texels, more than the limit of {}",
+                            width, height, res, res, kMaxEnvironmentTexels));
         rgb = latlong_to_equal_area(rgb_in, width, height, res);
     } else {
-        throw Error(fmt::format("the environment map is {} x {}: neither square (pbrt-v4's "
-                                "equal-area layout) nor 2:1 (latitude-longitude)",
-                                width, height));
+        throw Error(
+            fmt::format("the environment map is {} x {}: neither square (pbrt-v4's "
+                        "equal-area layout) nor 2:1 (latitude-longitude)",
+                        width, height));
     }
     if (int64_t(res) * res > kMaxEnvironmentTexels)
-        throw Error(fmt::format("the environment map has {} x {} texels, more than the limit "
-                                "of {}", res, res, kMaxEnvironmentTexels));
+        throw Error(
+            fmt::format("the environment map has {} x {} texels, more than the limit "
+                        "of {}",
+                        res, res, kMaxEnvironmentTexels));
 
     auto map = std::make_shared<EnvironmentMap>();
     map->res = res;
@@ -160,8 +163,7 @@ SampledSpectrum ImageInfiniteLight::le(Vec3 dir, const SampledWavelengths& lambd
     return map->le(uv, lambda) * scale;
 }
 
-std::optional<LightLiSample> ImageInfiniteLight::sample_li(const LightSampleContext& ctx,
-                                                           Point2 u,
+std::optional<LightLiSample> ImageInfiniteLight::sample_li(const LightSampleContext& ctx, Point2 u,
                                                            const SampledWavelengths& lambda,
                                                            bool allow_incomplete_pdf) const {
     Float map_pdf = 0;

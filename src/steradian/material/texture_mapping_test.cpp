@@ -50,7 +50,7 @@ TEST(TextureMapping, CylindricalIsAngleAroundZAndHeight) {
     const Point2 a = m.map_position(Point3(-1, 0, 5));  // atan2(0, -1) = pi
     EXPECT_NEAR(a.x, 1, kEps);
     EXPECT_NEAR(a.y, 5, kEps);
-    const Point2 b = m.map_position(Point3(0, 1, 2));   // atan2(1, 0) = pi / 2
+    const Point2 b = m.map_position(Point3(0, 1, 2));  // atan2(1, 0) = pi / 2
     EXPECT_NEAR(b.x, 0.75f, kEps);
     EXPECT_NEAR(b.y, 2, kEps);
     const Point2 c = m.map_position(Point3(0, -3, -1));  // -pi / 2
@@ -65,7 +65,7 @@ TEST(TextureMapping, PlanarProjectsOntoV1AndV2) {
     m.du = 0.5f;
     m.dv = -0.25f;
     const Point2 st = m.map_position(Point3(1, 2, 3));
-    EXPECT_NEAR(st.x, 0.5f + 3, kEps);   // du + (1, 2, 3) . (1, 1, 0)
+    EXPECT_NEAR(st.x, 0.5f + 3, kEps);    // du + (1, 2, 3) . (1, 1, 0)
     EXPECT_NEAR(st.y, -0.25f + 6, kEps);  // dv + (1, 2, 3) . (0, 0, 2)
     SurfaceHit h;
     h.p = Point3(1, 2, 3);
