@@ -4,7 +4,8 @@
 // constant alpha 1 - f, decided per ray, or a fine checkerboard of opaque and clear squares)
 // passes E = f pi L, up to the sky beyond the sheet's edges (a fraction cos^2 of the edge
 // angle of the cosine-weighted hemisphere: 1e-6 here). Camera rays pass fully transparent
-// shapes, and shadow rays are cut the same way as camera rays.
+// shapes, shadow rays are cut the same way as camera rays, and a sphere's cut-out lets rays
+// on to its far side.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -96,17 +97,25 @@ Shape "sphere" "float radius" [ 1 ]
     EXPECT_NE(a.y[8 * 16 + 8], c.y[8 * 16 + 8]);
 }
 
-TEST(Alpha, SpheresWithAlphaAreALocatedError) {
-    try {
-        build_scene(parse_pbrt_string("Camera \"perspective\"\nWorldBegin\n"
-                                      "Shape \"sphere\" \"float alpha\" [ 0.5 ]\n",
-                                      "<test>"),
-                    {});
-        FAIL() << "expected an error";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("<test>:3:"), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("spheres"), std::string::npos) << e.what();
-    }
+// Inside a black sphere of alpha 0.3 every ray meets the wall once: 70 % pass on to the
+// sky, so the upward illuminance at its centre is 0.7 pi L.
+TEST(Alpha, RaysPassASphereOfAlpha) {
+    const std::string text = R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ]
+WorldBegin
+LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
+Material "diffuse" "spectrum reflectance" [ 300 0 900 0 ]
+Shape "sphere" "float radius" [ 2 ] "float alpha" [ 0.3 ]
+Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
+)";
+    Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
+    MeasureOptions o;
+    o.rel_error = 2e-3;
+    o.threads = 2;
+    MeasureResult r = measure(s, o);
+    const double v = r.readings[0].values[0], se = r.readings[0].stderrs[0];
+    EXPECT_NEAR(v, 0.7 * kPiD, kZ * se) << "se " << se;
 }
 
 }  // namespace

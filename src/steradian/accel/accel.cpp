@@ -15,7 +15,7 @@ struct UserShape {
     const Sphere* sphere = nullptr;
     const Disk* disk = nullptr;
     const Cylinder* cylinder = nullptr;
-    const AlphaMask* alpha = nullptr;  ///< disks and cylinders only
+    const AlphaMask* alpha = nullptr;
     unsigned geom_id = 0;
 };
 
@@ -67,12 +67,14 @@ bool user_hit(const UserShape& us, Point3 o, Vec3 d, Float tnear, Float tfar, Fl
     Vec3 od = obj_from.vector(d);
     Point3 ph;
     Float th;
-    if (us.cylinder) {
-        // A cut-out lets the ray on to the cylinder's far wall.
+    if (us.cylinder || (us.sphere && us.alpha)) {
+        // A cut-out lets the ray on to the far side.
         Float t_min = tnear;
-        while (us.cylinder->intersect_object(oo, od, tfar, th, ph, t_min)) {
+        while (us.cylinder ? us.cylinder->intersect_object(oo, od, tfar, th, ph, t_min)
+                           : us.sphere->intersect_object(oo, od, tfar, th, ph, t_min)) {
             SurfaceHit h;
-            if (!us.alpha || (us.cylinder->fill_hit(ph, h), alpha_stops(*us.alpha, h, o, d))) {
+            if (us.alpha) us.cylinder ? us.cylinder->fill_hit(ph, h) : us.sphere->fill_hit(ph, h);
+            if (!us.alpha || alpha_stops(*us.alpha, h, o, d)) {
                 t = th;
                 return true;
             }
@@ -216,7 +218,7 @@ struct Accel::Impl {
             us->sphere = std::get_if<Sphere>(&e.geometry);
             us->disk = std::get_if<Disk>(&e.geometry);
             us->cylinder = std::get_if<Cylinder>(&e.geometry);
-            if (us->disk || us->cylinder) us->alpha = e.alpha.get();
+            us->alpha = e.alpha.get();
             g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
             rtcSetGeometryUserData(g, us.get());

@@ -43,7 +43,7 @@ struct ShapeEntry {
     ShapeGeometry geometry;
     int material = -1;     ///< index into Scene::materials; -1 = interface
     int light_offset = -1; ///< first light of this shape (one per triangle), or -1
-    /// Cut-outs (triangle meshes, disks and cylinders); null: opaque.
+    /// Cut-outs; null: opaque.
     std::shared_ptr<const AlphaMask> alpha;
 };
 

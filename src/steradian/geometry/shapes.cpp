@@ -345,7 +345,8 @@ Float TriangleMesh::pdf_triangle_from(size_t i, Point3 ref, Point3 p_light, Norm
 
 // ---- spheres --------------------------------------------------------------------------
 
-bool Sphere::intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit) const {
+bool Sphere::intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit,
+                              Float t_min) const {
     // Solve |o + t d|^2 = r^2 in double precision, with the numerically stable form.
     Vec3d od(o), dd(d);
     double a = dot(dd, dd);
@@ -361,7 +362,9 @@ bool Sphere::intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point
     double t0 = q / a, t1 = c / q;
     if (t0 > t1) std::swap(t0, t1);
     for (double t : {t0, t1}) {
-        if (!(t > 0 && t < t_max)) continue;
+        // Compared as the float returned, so that a caller asking again from t_min = t_hit
+        // never gets the same hit back.
+        if (!(Float(t) > t_min && Float(t) < t_max)) continue;
         Vec3d ph = od + dd * t;
         ph = ph * (double(radius) / length(ph));
         if (!full()) {
@@ -539,7 +542,8 @@ bool Cylinder::intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Poi
     double t0 = q / a, t1 = q != 0 ? c / q : t0;
     if (t0 > t1) std::swap(t0, t1);
     for (double t : {t0, t1}) {
-        if (!(t > t_min && t < t_max)) continue;
+        // Compared as the float returned (see Sphere::intersect_object).
+        if (!(Float(t) > t_min && Float(t) < t_max)) continue;
         const double px = ox + t * dx, py = oy + t * dy, pz = double(o.z) + t * double(d.z);
         if (pz < z_min || pz > z_max) continue;
         double phi = std::atan2(py, px);

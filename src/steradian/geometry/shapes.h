@@ -117,8 +117,9 @@ struct Sphere {
     Float z_min = -1, z_max = 1, theta_z_min = 0, theta_z_max = kPi, phi_max = 2 * kPi;
     bool flip_normals = false;  ///< reverse_orientation XOR transform swaps handedness
     bool full() const { return phi_max >= 2 * kPi && z_min <= -radius && z_max >= radius; }
-    /// Object-space intersection: nearest t in (0, t_max) of a ray given in object space.
-    bool intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit) const;
+    /// Object-space intersection: nearest t in (t_min, t_max) of a ray given in object space.
+    bool intersect_object(Point3 o, Vec3 d, Float t_max, Float& t_hit, Point3& p_hit,
+                          Float t_min = 0) const;
     void fill_hit(Point3 p_obj, SurfaceHit& h) const;
     Float area() const;  ///< world-space area (exact for rigid transforms and uniform scale)
     /// Uniform by area (object space, mapped to world); pdf_area.

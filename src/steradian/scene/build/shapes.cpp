@@ -152,13 +152,7 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
 
 void Builder::check_alpha(const ShapeDesc& s) {
     // Read (so marked used) here; the mask is made by add_shape (alpha_mask()).
-    if (const Param* a = s.params.find("alpha")) {
-        if (a->type == ParamType::Float && a->numbers.size() == 1 && a->numbers[0] == 1) return;
-        if (s.type == "sphere")
-            throw_unsupported(a->loc,
-                              "\"alpha\" cut-outs of spheres are not supported yet (triangle "
-                              "meshes, bilinear meshes, PLY meshes and disks have them)");
-    }
+    s.params.find("alpha");
 }
 
 namespace {
