@@ -49,7 +49,10 @@ void Builder::build_lights(Scene& s) {
             recorded([&] { add_light(s, m_d.lights[i], center, radius); });
         check_power(first, m_d.lights[i].loc);
     }
-    for (auto [shape, al] : m_pending_area) {
+    for (const auto& pending : m_pending_area) {
+        // Named members, not a structured binding: clang 14 cannot capture a binding in a lambda.
+        const auto& shape = pending.first;
+        const size_t al = pending.second;
         size_t first = s.lights.size();
         recorded([&] { add_area_light(s, shape, m_d.area_lights[al]); });
         check_power(first, m_d.area_lights[al].loc);
