@@ -226,6 +226,71 @@ Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 -1 ]
     EXPECT_NEAR(m.readings[1].values[0], 0, kZ * m.readings[1].stderrs[0] + bias);
 }
 
+/// The configuration factor from a small upward-facing patch to a parallel rectangle a x b
+/// at height h with a corner straight above the patch (Howell's catalogue, B-2):
+/// F = [X / sqrt(1 + X^2) atan(Y / sqrt(1 + X^2)) + Y / sqrt(1 + Y^2) atan(X / sqrt(1 + Y^2))]
+/// / (2 pi), X = a / h, Y = b / h.
+double corner_factor(double a, double b, double h) {
+    const double X = a / h, Y = b / h, sx = std::sqrt(1 + X * X), sy = std::sqrt(1 + Y * Y);
+    return (X / sx * std::atan(Y / sx) + Y / sy * std::atan(X / sy)) / (2 * kPi);
+}
+
+TEST(EnvironmentLight, PortalWindowGivesTheApertureIlluminance) {
+    // A uniform sky of luminance 1 above an opaque black ceiling at height 1 with a 1 x 0.6
+    // window, the window given as the light's portal: the illuminance on the floor below is
+    // pi L times the configuration factor of the window (corners summed by superposition).
+    // The ceiling reaches 1000 m, so sky below it (grazing light) is below 1e-6 of it.
+    write_map("white.pfm", 1, 1, [](int, int, int) { return 1.f; });
+    const std::string ceiling = R"(
+Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+Shape "bilinearmesh" "point3 P" [ -1000 -1000 1  1000 -1000 1  -1000 -0.3 1  1000 -0.3 1 ]
+Shape "bilinearmesh" "point3 P" [ -1000 0.3 1  1000 0.3 1  -1000 1000 1  1000 1000 1 ]
+Shape "bilinearmesh" "point3 P" [ -1000 -0.3 1  -0.5 -0.3 1  -1000 0.3 1  -0.5 0.3 1 ]
+Shape "bilinearmesh" "point3 P" [ 0.5 -0.3 1  1000 -0.3 1  0.5 0.3 1  1000 0.3 1 ]
+Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "point3 p" [ 0.2 0.1 0 ] "normal n" [ 0 0 1 ]
+)";
+    const std::string head = R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ]
+WorldBegin
+)";
+    // pbrt-v4's portal frame: n = (p3 - p0) x (p1 - p0) = +x x +y = +z, the sky's side.
+    const std::string portal =
+        R"(LightSource "infinite" "string filename" "white.pfm" "point3 portal" [ -0.5 -0.3 1  -0.5 0.3 1  0.5 0.3 1  0.5 -0.3 1 ])";
+    const double e_centre = kPi * 4 * corner_factor(0.5, 0.3, 1);
+    const double e_off = kPi * (corner_factor(0.7, 0.4, 1) + corner_factor(0.7, 0.2, 1) +
+                                corner_factor(0.3, 0.4, 1) + corner_factor(0.3, 0.2, 1));
+    MeasureResult with = measure_text(head + portal + ceiling, 2e-3);
+    MeasureResult without = measure_text(
+        head + R"(LightSource "infinite" "string filename" "white.pfm")" + ceiling, 2e-3);
+    for (const MeasureResult* m : {&with, &without}) {
+        const double a = m->readings[0].values[0], sa = m->readings[0].stderrs[0];
+        const double b = m->readings[1].values[0], sb = m->readings[1].stderrs[0];
+        std::printf("%s portal: E = %.5f +- %.5f (%.5f), %.5f +- %.5f (%.5f)\n",
+                    m == &with ? "with" : "without", a, sa, e_centre, b, sb, e_off);
+        EXPECT_NEAR(a, e_centre, kZ * sa + kUplift * e_centre);
+        EXPECT_NEAR(b, e_off, kZ * sb + kUplift * e_off);
+    }
+}
+
+TEST(EnvironmentLight, PortalLightComesOnlyFromItsOuterSide) {
+    // pbrt-v4: the portal light's radiance is zero in directions w with w . n <= 0. In the
+    // open, an upward patch sees pi L and a downward one nothing.
+    write_map("white.pfm", 1, 1, [](int, int, int) { return 1.f; });
+    MeasureResult m = measure_text(R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ]
+WorldBegin
+LightSource "infinite" "string filename" "white.pfm" "point3 portal" [ -1 -1 3  -1 1 3  1 1 3  1 -1 3 ]
+Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 -1 ]
+)",
+                                   2e-3);
+    EXPECT_NEAR(m.readings[0].values[0], kPi, kZ * m.readings[0].stderrs[0] + kUplift * kPi);
+    EXPECT_EQ(m.readings[1].values[0], 0);
+}
+
 TEST(EnvironmentLight, BadMapsAreLocatedErrors) {
     write_map("wide.pfm", 30, 10, [](int, int, int) { return 1.f; });
     write_map("nan.pfm", 8, 8, [](int x, int, int) { return x == 3 ? NAN : 1.f; });
@@ -254,6 +319,20 @@ TEST(EnvironmentLight, BadMapsAreLocatedErrors) {
     const std::string missing =
         message("LightSource \"infinite\" \"string filename\" \"missing.exr\"");
     EXPECT_NE(missing.find("missing.exr"), std::string::npos) << missing;
+    write_map("white.pfm", 1, 1, [](int, int, int) { return 1.f; });
+    const std::string three = message(
+        "LightSource \"infinite\" \"string filename\" \"white.pfm\" \"point3 portal\" "
+        "[ 0 0 1  0 1 1  1 1 1 ]");
+    EXPECT_NE(three.find("<test>:3:"), std::string::npos) << three;
+    EXPECT_NE(three.find("needs 4 points"), std::string::npos) << three;
+    const std::string skew = message(
+        "LightSource \"infinite\" \"string filename\" \"white.pfm\" \"point3 portal\" "
+        "[ 0 0 1  0 1 1  1 1 1.5  1 0 1 ]");
+    EXPECT_NE(skew.find("not a planar parallelogram"), std::string::npos) << skew;
+    const std::string flat = message(
+        "LightSource \"infinite\" \"string filename\" \"white.pfm\" \"point3 portal\" "
+        "[ 0 0 1  1 0 1  2 0 1  1 0 1 ]");
+    EXPECT_NE(flat.find("span no area"), std::string::npos) << flat;
 }
 
 }  // namespace

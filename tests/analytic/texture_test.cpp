@@ -161,5 +161,46 @@ TEST(Texture, CompositeTextureErrors) {
               std::string::npos);
 }
 
+// A texture much finer than a pixel renders as its area average (pbrt-v4's MIP-mapped
+// filtering over the pixel footprint), not as the aliased value of whichever texel a sample
+// hits: a 256 x 256 checker of single texels 0.2 / 0.8 on a plane 16 pixels wide is 16
+// texels per pixel; at 4 spp pbrt-v4's footprint scale is 1/2, i.e. 8 texels, which selects
+// level 4 of the pyramid, whose texels are all exactly 0.5. So every pixel must equal, to
+// float rounding, the same render of a uniform 0.5 image (same samples, same wavelengths):
+// the comparison removes the spectral noise both share. Unfiltered, the pixels would be
+// averages of 4 texel values, 0.2 to 0.8.
+TEST(Texture, ATextureFinerThanAPixelRendersAsItsAreaAverage) {
+    auto dir = std::filesystem::temp_directory_path() / "steradian_texture_filter_test";
+    std::filesystem::create_directories(dir);
+    Image fine;
+    fine.width = fine.height = 256;
+    fine.channels = 3;
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x)
+            for (int c = 0; c < 3; ++c) fine.data.push_back((x + y) % 2 ? 0.8f : 0.2f);
+    write_image((dir / "fine.exr").string(), fine);
+    Image flat;
+    flat.width = flat.height = 1;
+    flat.channels = 3;
+    flat.data = {0.5f, 0.5f, 0.5f};
+    write_image((dir / "flat.exr").string(), flat);
+    auto scene = [](const std::string& file, const std::string& filter) {
+        return lit_plane_scene("Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"" +
+                                   file + "\" \"string filter\" \"" + filter +
+                                   "\"\nMaterial \"diffuse\" \"texture reflectance\" \"img\"\n",
+                               4);
+    };
+    const Rendered ref = render_string(scene("flat.exr", "bilinear"), 2, 0, dir.string());
+    for (const char* filter : {"bilinear", "trilinear", "ewa", "point"}) {
+        const Rendered r = render_string(scene("fine.exr", filter), 2, 0, dir.string());
+        double worst = 0;
+        for (size_t i = 0; i < r.y.size(); ++i)
+            worst = std::max(worst, std::abs(r.y[i] - ref.y[i]) / std::max(ref.y[i], 1e-3));
+        // Every filter reads levels 3 and up here (EWA: the minor axis, 8 texels), all 0.5.
+        EXPECT_LT(worst, 1e-4) << filter;
+    }
+    std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace sr::test

@@ -250,6 +250,8 @@ struct Accel::Impl {
         // record per path): the shapes' fills write all but the normal derivatives, which
         // only curved shading normals have.
         h.dndu = h.dndv = h.ss = Vec3(0, 0, 0);
+        h.dpdx = h.dpdy = Vec3(0, 0, 0);  // no footprint until the renderer computes one
+        h.dudx = h.dvdx = h.dudy = h.dvdy = 0;
         h.t = rh.ray.tfar;
         h.shape = shape;
         h.prim = rh.hit.primID;
@@ -320,7 +322,20 @@ struct Accel::Impl {
     }
 };
 
+/// Embree's build quality for a scene of these shapes: HIGH (spatial splits, the fastest
+/// traversal) up to kHighQualityTriangles triangles; above, MEDIUM (binned SAH without
+/// splits), whose build is several times faster (bench/plygz_load.sh: a 10-million-triangle
+/// mesh) for a traversal a few percent slower.
+constexpr size_t kHighQualityTriangles = 2'000'000;
+
 Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
+    auto build_quality = [&](std::span<const int> shape_ids) {
+        size_t tris = 0;
+        for (int si : shape_ids)
+            if (const auto* mesh = std::get_if<TriangleMesh>(&geometry.shapes[size_t(si)].geometry))
+                tris += mesh->num_triangles();
+        return tris > kHighQualityTriangles ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+    };
     m->shapes = geometry.shapes.data();
     m->instances = geometry.instances.data();
     m->device = rtcNewDevice("verbose=0");
@@ -330,7 +345,7 @@ Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
     // Prototypes first: each its own Embree scene, instanced below.
     for (const Prototype& proto : geometry.prototypes) {
         RTCScene ps = rtcNewScene(m->device);
-        rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
+        rtcSetSceneBuildQuality(ps, build_quality(proto.shapes));
         std::vector<int> map;
         for (int si : proto.shapes) {
             unsigned id = m->attach_shape(ps, si);
@@ -343,7 +358,7 @@ Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
     }
 
     m->top = rtcNewScene(m->device);
-    rtcSetSceneBuildQuality(m->top, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(m->top, build_quality(geometry.top_level_shapes));
     for (int si : geometry.top_level_shapes) {
         unsigned id = m->attach_shape(m->top, si);
         if (m->top_geom_shape.size() <= id) m->top_geom_shape.resize(id + 1, -1);

@@ -12,7 +12,75 @@ Transform raster_from_screen(const Float s[4], Vec2i res) {
     return Transform::scale({double(res.x), -double(res.y), 1}) * ndc_from_screen;
 }
 
+void camera_ray_frame(Vec3 z, Vec3& x, Vec3& y) {
+    Vec3 a = std::abs(z.x) < Float(0.999) ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    x = normalize(a - z * dot(a, z));
+    y = cross(z, x);
+}
+
+void Camera::find_min_differentials(Vec2i resolution) {
+    // pbrt-v4 (cameras.cpp, FindMinimumDifferentials) scans 512 film positions along the
+    // diagonal with the lens sample at the lens centre; so do we.
+    constexpr int kN = 512;
+    Float best_px = kInfinity, best_py = kInfinity, best_dx = kInfinity, best_dy = kInfinity;
+    const Point2 lens(0.5f, 0.5f);
+    for (int i = 0; i < kN; ++i) {
+        const Float f = Float(i) / (kN - 1);
+        const Point2 pf(f * Float(resolution.x), f * Float(resolution.y));
+        const Ray r = generate_ray(pf, lens);
+        const Ray rx = generate_ray(Point2(pf.x + 1, pf.y), lens);
+        const Ray ry = generate_ray(Point2(pf.x, pf.y + 1), lens);
+        const Vec3 d = normalize(m_camera_from_world.vector(r.d));
+        const Point3 o = m_camera_from_world.point(r.o);
+        const Vec3 dox = m_camera_from_world.point(rx.o) - o;
+        const Vec3 doy = m_camera_from_world.point(ry.o) - o;
+        if (length(dox) < best_px) best_px = length(dox), m_min.pos_x = dox;
+        if (length(doy) < best_py) best_py = length(doy), m_min.pos_y = doy;
+        Vec3 fx, fy;
+        camera_ray_frame(d, fx, fy);
+        auto local = [&](Vec3 w) {
+            w = normalize(m_camera_from_world.vector(w));
+            return Vec3(dot(w, fx), dot(w, fy), dot(w, d)) - Vec3(0, 0, 1);
+        };
+        const Vec3 ddx = local(rx.d), ddy = local(ry.d);
+        if (length(ddx) < best_dx) best_dx = length(ddx), m_min.dir_x = ddx;
+        if (length(ddy) < best_dy) best_dy = length(ddy), m_min.dir_y = ddy;
+    }
+}
+
+void Camera::approximate_dp_dxy(Point3 p, Normal3 n, Float scale, Vec3& dpdx, Vec3& dpdy) const {
+    dpdx = dpdy = Vec3(0, 0, 0);
+    const Vec3 pc = m_camera_from_world.point(p) - Point3(0, 0, 0);
+    const Float dist = length(pc);
+    if (!(dist > 0)) return;
+    // The frame around the view direction to p: the camera's minimum differential rays
+    // start at the origin (plus their position offsets) along z; p is at (0, 0, dist).
+    const Vec3 z = pc / dist;
+    Vec3 fx, fy;
+    camera_ray_frame(z, fx, fy);
+    const Vec3 nw = normalize(m_camera_from_world.normal(Vec3(n.x, n.y, n.z)));
+    const Vec3 nl(dot(nw, fx), dot(nw, fy), dot(nw, z));
+    auto offset = [&](Vec3 pos, Vec3 dir) {
+        // Where the ray (pos, (0,0,1) + dir) meets the tangent plane nl . x = nl.z dist.
+        const Vec3 d = Vec3(0, 0, 1) + dir;
+        const Float den = dot(nl, d);
+        if (den == 0) return Vec3(0, 0, 0);
+        const Float t = (nl.z * dist - dot(nl, pos)) / den;
+        const Vec3 hit = pos + d * t - Vec3(0, 0, dist);
+        const Vec3 cam = fx * hit.x + fy * hit.y + z * hit.z;
+        return m_world_from_camera.vector(cam) * scale;
+    };
+    // Position offsets of the minimum differentials are in camera space; in the local
+    // frame they are (for the cameras here, which keep them in the film plane) rotated too.
+    auto to_local = [&](Vec3 v) { return Vec3(dot(v, fx), dot(v, fy), dot(v, z)); };
+    dpdx = offset(to_local(m_min.pos_x), m_min.dir_x);
+    dpdy = offset(to_local(m_min.pos_y), m_min.dir_y);
+    if (!std::isfinite(length_squared(dpdx)) || !std::isfinite(length_squared(dpdy)))
+        dpdx = dpdy = Vec3(0, 0, 0);
+}
+
 PerspectiveCamera::PerspectiveCamera(const CameraParams& params, Float fov_deg) : m_p(params) {
+    set_frame(m_p.world_from_camera);
     Transform screen_from_camera = Transform::perspective(fov_deg, 1e-2, 1000);
     m_camera_from_raster =
         screen_from_camera.inverse() * raster_from_screen(m_p.screen, m_p.resolution).inverse();
@@ -60,6 +128,7 @@ Ray PerspectiveCamera::generate_ray(Point2 p_film, Point2 u_lens) const {
 Point3 PerspectiveCamera::position() const { return m_p.world_from_camera.point(Point3(0, 0, 0)); }
 
 OrthographicCamera::OrthographicCamera(const CameraParams& params) : m_p(params) {
+    set_frame(m_p.world_from_camera);
     Transform screen_from_camera = Transform::orthographic(0, 1);
     m_camera_from_raster =
         screen_from_camera.inverse() * raster_from_screen(m_p.screen, m_p.resolution).inverse();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "steradian/geometry/hit.h"
 #include "steradian/sampling/rng.h"
 
 namespace sr {
@@ -243,6 +244,71 @@ TEST(RasterFromScreen, MapsWindowCornersToRasterCorners) {
     EXPECT_NEAR(br.y, 200, 1e-12);
     EXPECT_NEAR(c.x, 200, 1e-12);
     EXPECT_NEAR(c.y, 100, 1e-12);
+}
+
+}  // namespace
+}  // namespace sr
+
+namespace sr {
+namespace {
+
+// Texture footprints (pbrt-v4's ray differentials and their camera approximation), against
+// the geometry of a pinhole: fov 90 degrees on a square 100 x 100 film puts the film plane
+// z = 1 at [-1, 1]^2, so one pixel is 0.02 there.
+TEST(CameraFootprint, RayDifferentialsOnAFacingPlaneAreOnePixelAtItsDistance) {
+    CameraParams cp;
+    cp.resolution = Vec2i(100, 100);
+    PerspectiveCamera cam(cp, 90);
+    const Point2 pf(50, 50), lens(0.5f, 0.5f);
+    const Ray r = cam.generate_ray(pf, lens);
+    const Ray rx = cam.generate_ray(Point2(51, 50), lens), ry = cam.generate_ray(Point2(50, 51), lens);
+    const Float d = 7;  // a plane z = 7 facing the camera, u = x, v = y
+    SurfaceHit h;
+    h.p = r.at(d / r.d.z);
+    h.ng = Normal3(0, 0, -1);
+    h.dpdu = Vec3(1, 0, 0);
+    h.dpdv = Vec3(0, 1, 0);
+    set_footprint_from_rays(h, r, rx, ry, 1);
+    EXPECT_NEAR(length(h.dpdx), 0.02 * d, 1e-4 * d);
+    EXPECT_NEAR(length(h.dpdy), 0.02 * d, 1e-4 * d);
+    // Raster x runs along camera +x and raster y down (camera -y): dp/dx = (0.14, 0, 0).
+    EXPECT_NEAR(h.dudx, 0.02 * d, 1e-4 * d);
+    EXPECT_NEAR(h.dvdy, -0.02 * d, 1e-4 * d);
+    EXPECT_NEAR(h.dvdx, 0, 1e-5);
+    EXPECT_NEAR(h.dudy, 0, 1e-5);
+    // pbrt-v4 scales the differentials by max(1/8, 1/sqrt(spp)): at 16 spp a quarter.
+    set_footprint_from_rays(h, r, rx, ry, 0.25f);
+    EXPECT_NEAR(h.dudx, 0.25 * 0.02 * d, 1e-4 * d);
+    // Tilted 60 degrees about x, the plane stretches the footprint in y by 1 / cos 60 = 2.
+    const Float c = std::cos(Float(kPiD / 3)), s = std::sin(Float(kPiD / 3));
+    h.ng = Normal3(0, s, -c);  // facing the camera, turned about the x axis
+    h.dpdu = Vec3(1, 0, 0);
+    h.dpdv = Vec3(0, c, s);
+    h.p = r.at(d);  // on the axis, distance d
+    set_footprint_from_rays(h, r, rx, ry, 1);
+    EXPECT_NEAR(length(h.dpdy), 2 * 0.02 * d, 2e-3 * d);
+    EXPECT_NEAR(length(h.dpdx), 0.02 * d, 1e-4 * d);
+}
+
+TEST(CameraFootprint, TheApproximationUsesTheSmallestDifferentialOverTheFilm) {
+    // pbrt-v4's approximation at vertices after a bounce: the ray differential smallest over
+    // the film (at the corner of a pinhole's film, where a pixel subtends the least angle)
+    // at the vertex's distance. At the corner (1, 1, 1) / sqrt 3 of the z = 1 film plane, a
+    // step of 0.02 in x turns the unit direction by 0.02 |e_x - n n_x| / |p| = 0.02
+    // sqrt(2/3) / sqrt 3; a plane facing the camera at distance d then moves by d times that.
+    CameraParams cp;
+    cp.resolution = Vec2i(100, 100);
+    PerspectiveCamera cam(cp, 90);
+    cam.find_min_differentials(cp.resolution);
+    const Float d = 5, want = d * 0.02f * std::sqrt(2.0f / 3) / std::sqrt(3.0f);
+    Vec3 dpdx, dpdy;
+    cam.approximate_dp_dxy(Point3(0, 0, d), Normal3(0, 0, -1), 1, dpdx, dpdy);
+    // A one-pixel step is not infinitesimal: the finite difference differs by ~1 %.
+    EXPECT_NEAR(length(dpdx), want, 0.02 * want);
+    EXPECT_NEAR(length(dpdy), want, 0.02 * want);
+    EXPECT_NEAR(dot(dpdx, Vec3(0, 0, 1)), 0, 1e-6);  // in the facing plane
+    cam.approximate_dp_dxy(Point3(0, 0, d), Normal3(0, 0, -1), 0.5f, dpdx, dpdy);
+    EXPECT_NEAR(length(dpdx), 0.5f * want, 0.01 * want);
 }
 
 }  // namespace

@@ -30,6 +30,12 @@ struct SurfaceHit {
     Vec3 dpdv{0, 0, 0}; ///< dp/dv of the (u, v) parameterisation (bump mapping)
     Vec3 dndu{0, 0, 0}, dndv{0, 0, 0};  ///< derivatives of the (unnormalised) shading normal
     Point2 uv;          ///< surface parameterisation
+    /// Texture footprint: the change of p, u and v from one pixel to the next in x and y
+    /// (pbrt-v4's dpdx, dpdy, dudx, ...). All 0 (no filtering: the finest texture detail)
+    /// unless the renderer computes them (set_footprint_from_rays, set_uv_differentials);
+    /// Scene::intersect sets them to 0.
+    Vec3 dpdx{0, 0, 0}, dpdy{0, 0, 0};
+    Float dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;
     Vec3 wo;            ///< unit direction towards the ray origin
     Float t = 0;        ///< ray parameter
     int shape = -1;     ///< index into Scene::shapes
@@ -46,6 +52,47 @@ inline Vec3 shading_tangent(Vec3 dpdu, Normal3 ns) {
     Vec3 s = dpdu - ns * dot(ns, dpdu);
     Float l2 = length_squared(s);
     return l2 > 1e-20f ? s / std::sqrt(l2) : Vec3(0, 0, 0);
+}
+
+/// du/dx, dv/dx, du/dy, dv/dy of h from its dpdx, dpdy and the tangents dpdu, dpdv: the
+/// least-squares solution of dpdu du + dpdv dv = dp (normal equations), 0 where the tangents
+/// are degenerate, clamped to +-1e8 as pbrt-v4 does.
+inline void set_uv_differentials(SurfaceHit& h) {
+    const Float a00 = dot(h.dpdu, h.dpdu), a01 = dot(h.dpdu, h.dpdv), a11 = dot(h.dpdv, h.dpdv);
+    const Float det = a00 * a11 - a01 * a01;
+    Float inv = 1 / det;
+    if (!std::isfinite(inv)) inv = 0;
+    auto solve = [&](Vec3 dp, Float& du, Float& dv) {
+        const Float b0 = dot(h.dpdu, dp), b1 = dot(h.dpdv, dp);
+        du = (a11 * b0 - a01 * b1) * inv;
+        dv = (a00 * b1 - a01 * b0) * inv;
+        du = std::isfinite(du) ? std::clamp(du, Float(-1e8), Float(1e8)) : 0;
+        dv = std::isfinite(dv) ? std::clamp(dv, Float(-1e8), Float(1e8)) : 0;
+    };
+    solve(h.dpdx, h.dudx, h.dvdx);
+    solve(h.dpdy, h.dudy, h.dvdy);
+}
+
+/// Sets h.dpdx, h.dpdy from a camera ray's differentials: rx, ry are the rays through the
+/// film positions one pixel over in x and y (the same lens sample), their offsets from
+/// `ray` scaled by `scale` (pbrt-v4 scales them by max(1/8, 1/sqrt(spp))); each meets the
+/// tangent plane of h (normal ng) and dp is that point minus h.p. Where a differential ray
+/// runs parallel to the plane both are 0. Then the uv differentials.
+inline void set_footprint_from_rays(SurfaceHit& h, const Ray& ray, const Ray& rx, const Ray& ry,
+                                    Float scale) {
+    const Vec3 n(h.ng.x, h.ng.y, h.ng.z);
+    const Float plane = dot(n, h.p);
+    auto meet = [&](const Ray& r, Vec3& dp) {
+        const Point3 o = ray.o + (r.o - ray.o) * scale;
+        const Vec3 d = ray.d + (r.d - ray.d) * scale;
+        const Float den = dot(n, d);
+        if (den == 0) return false;
+        const Float t = (plane - dot(n, o)) / den;
+        dp = o + d * t - h.p;
+        return std::isfinite(t) && std::isfinite(length_squared(dp));
+    };
+    if (!meet(rx, h.dpdx) || !meet(ry, h.dpdy)) h.dpdx = h.dpdy = Vec3(0, 0, 0);
+    set_uv_differentials(h);
 }
 
 /// Whether v is not (0, 0, 0), as one branch: which component of a tangent is zero varies

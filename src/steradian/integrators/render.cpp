@@ -52,6 +52,7 @@ using Clock = std::chrono::steady_clock;
 struct SamplePacket {
     static constexpr int kSize = Scene::kRayPacket;
     Ray rays[kSize];
+    Point2 p_film[kSize], u_lens[kSize];
     SurfaceHit hits[kSize];
     FilterSample filter[kSize];
     SampledWavelengths lambda[kSize];
@@ -65,6 +66,9 @@ struct ThreadState {
     PathCounters counters;
     uint64_t paths = 0;
     uint64_t nonfinite = 0;
+    /// Scale of the camera's ray differentials for texture footprints (0: none; pbrt-v4's
+    /// max(1/8, 1/sqrt(spp))).
+    Float footprint_scale = 0;
     /// Scratch space of render_packet (kept per thread: its hit records are large).
     std::unique_ptr<SamplePacket> packet = std::make_unique<SamplePacket>();
 };
@@ -83,13 +87,24 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
         const Point2 p_film(Float(pixel.x) + 0.5f + p.filter[k].offset.x,
                             Float(pixel.y) + 0.5f + p.filter[k].offset.y);
         p.rays[k] = scene.camera->generate_ray(p_film, u_lens);
+        p.p_film[k] = p_film;
+        p.u_lens[k] = u_lens;
     }
     const unsigned found = scene.intersect_packet(p.rays, (1u << n) - 1, p.hits);
+    if (ts.footprint_scale > 0) {
+        for (int k = 0; k < n; ++k) {
+            if (!((found >> k) & 1)) continue;
+            const Point2 pf = p.p_film[k];
+            const Ray rx = scene.camera->generate_ray(Point2(pf.x + 1, pf.y), p.u_lens[k]);
+            const Ray ry = scene.camera->generate_ray(Point2(pf.x, pf.y + 1), p.u_lens[k]);
+            set_footprint_from_rays(p.hits[k], p.rays[k], rx, ry, ts.footprint_scale);
+        }
+    }
     unsigned pending = 0;
     for (int k = 0; k < n; ++k) {
         sampler.start_pixel_sample(pixel, first + k, kCameraDimensions);
         p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k],
-                              sampler, ts.counters, &p.shadow[k]);
+                              sampler, ts.counters, &p.shadow[k], ts.footprint_scale);
         p.shadow_rays[k] = p.shadow[k].ray;
         pending |= unsigned(p.shadow[k].pending) << k;
     }
@@ -197,6 +212,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         ThreadState s;
         s.sampler = proto->clone();
+        if (scene.texture_footprints)
+            s.footprint_scale = std::max(Float(0.125), 1 / std::sqrt(Float(total_spp)));
         return s;
     });
 

@@ -106,6 +106,8 @@ std::shared_ptr<const EnvironmentMap> make_environment_map(const std::vector<flo
     build_rgb_uplift_table();
     std::vector<Float> d(n);
     double sum_y = 0, upper = 0, sum_d = 0;
+    map->coarse_res = std::min(res, 32);
+    map->coarse_y.assign(size_t(map->coarse_res) * size_t(map->coarse_res), 0.f);
     for (size_t i = 0; i < n; ++i) {
         float* p = &rgb[i * 3];
         for (int k = 0; k < 3; ++k) p[k] = std::max(p[k], 0.f);  // pbrt-v4 clamps at zero
@@ -115,6 +117,8 @@ std::shared_ptr<const EnvironmentMap> make_environment_map(const std::vector<flo
         const Float y = luminance(p);
         sum_y += y;
         const int tx = int(i % size_t(res)), ty = int(i / size_t(res));
+        const int cr = map->coarse_res;
+        map->coarse_y[size_t(ty * cr / res) * size_t(cr) + size_t(tx * cr / res)] += float(y);
         const Vec3 w = equal_area_square_to_sphere(
             Point2((Float(tx) + Float(0.5)) / Float(res), (Float(ty) + Float(0.5)) / Float(res)));
         if (w.z > 0) upper += double(y) * w.z;
@@ -154,39 +158,86 @@ SampledSpectrum EnvironmentMap::le(Point2 uv, const SampledWavelengths& lambda) 
     return SampledSpectrum(sig * t.scale) * illuminant.sample(lambda);
 }
 
-SampledSpectrum ImageInfiniteLight::le(Vec3 dir, const SampledWavelengths& lambda, Float* pdf,
-                                       bool allow_incomplete_pdf) const {
+Float InfinitePortal::pdf_through(Point3 from, Vec3 w) const {
+    const Float den = dot(n, w);
+    if (den == 0) return 0;
+    const Float t = dot(n, p0 - from) / den;
+    if (!(t > 0)) return 0;
+    // Where the ray meets the portal's plane, in the parallelogram's (a, b) coordinates.
+    const Vec3 q = from + w * t - p0;
+    const Float g11 = dot(e1, e1), g13 = dot(e1, e3), g33 = dot(e3, e3);
+    const Float det = g11 * g33 - g13 * g13;
+    const Float q1 = dot(q, e1), q3 = dot(q, e3);
+    const Float a = (g33 * q1 - g13 * q3) / det, b = (g11 * q3 - g13 * q1) / det;
+    if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1)) return 0;
+    return t * t / (area * std::abs(den));
+}
+
+Float ImageInfiniteLight::map_pdf(Vec3 w, bool allow_incomplete_pdf) const {
+    const Point2 uv = equal_area_sphere_to_square(normalize(light_from_world.vector(w)));
+    const Float p = allow_incomplete_pdf ? map->compensated.pdf(uv) : map->distribution.pdf(uv);
+    return p / (4 * kPi);
+}
+
+SampledSpectrum ImageInfiniteLight::le(Point3 origin, Vec3 dir, const SampledWavelengths& lambda,
+                                       Float* pdf, bool allow_incomplete_pdf) const {
     const Point2 uv = equal_area_sphere_to_square(normalize(light_from_world.vector(dir)));
-    if (pdf)
+    if (pdf) {
         *pdf = (allow_incomplete_pdf ? map->compensated.pdf(uv) : map->distribution.pdf(uv)) /
                (4 * kPi);
+        if (portal) *pdf = Float(0.5) * (*pdf + portal->pdf_through(origin, normalize(dir)));
+    }
+    if (portal && !(dot(portal->n, dir) > 0)) return SampledSpectrum(0);
     return map->le(uv, lambda) * scale;
 }
 
 std::optional<LightLiSample> ImageInfiniteLight::sample_li(const LightSampleContext& ctx, Point2 u,
                                                            const SampledWavelengths& lambda,
                                                            bool allow_incomplete_pdf) const {
-    Float map_pdf = 0;
-    const Point2 uv = allow_incomplete_pdf ? map->compensated.sample(u, &map_pdf)
-                                           : map->distribution.sample(u, &map_pdf);
-    if (!(map_pdf > 0)) return std::nullopt;
     LightLiSample s;
-    s.wi = normalize(world_from_light.vector(equal_area_square_to_sphere(uv)));
-    s.pdf_sa = map_pdf / (4 * kPi);
-    s.L = map->le(uv, lambda) * scale;
+    if (portal && u.x < Float(0.5)) {
+        // Uniformly over the portal's area (u.x rescaled to [0, 1)).
+        const Float a = std::min(u.x * 2, kOneMinusEpsilon);
+        const Vec3 d = portal->p0 + portal->e1 * a + portal->e3 * u.y - ctx.p;
+        const Float len = length(d);
+        if (!(len > 0)) return std::nullopt;
+        s.wi = d / len;
+    } else {
+        Point2 um = u;
+        if (portal) um.x = std::min((u.x - Float(0.5)) * 2, kOneMinusEpsilon);
+        Float map_pdf = 0;
+        const Point2 uv = allow_incomplete_pdf ? map->compensated.sample(um, &map_pdf)
+                                               : map->distribution.sample(um, &map_pdf);
+        if (!(map_pdf > 0)) return std::nullopt;
+        s.wi = normalize(world_from_light.vector(equal_area_square_to_sphere(uv)));
+        if (!portal) {
+            s.pdf_sa = map_pdf / (4 * kPi);
+            s.L = map->le(uv, lambda) * scale;
+        }
+    }
+    if (portal) {
+        // The light reaches the scene only through the portal, from its outer side.
+        if (!(dot(portal->n, s.wi) > 0)) return std::nullopt;
+        s.pdf_sa = Float(0.5) * (map_pdf(s.wi, allow_incomplete_pdf) +
+                                 portal->pdf_through(ctx.p, s.wi));
+        if (!(s.pdf_sa > 0)) return std::nullopt;
+        s.L = map->le(equal_area_sphere_to_square(normalize(light_from_world.vector(s.wi))),
+                      lambda) *
+              scale;
+    }
     s.p_light = ctx.p + s.wi * (2 * scene_radius);
     s.at_infinity = true;
     return s;
 }
 
-Float ImageInfiniteLight::pdf_li(const LightSampleContext&, Vec3 w,
+Float ImageInfiniteLight::pdf_li(const LightSampleContext& ctx, Vec3 w,
                                  bool allow_incomplete_pdf) const {
-    const Point2 uv = equal_area_sphere_to_square(normalize(light_from_world.vector(w)));
-    const Float p = allow_incomplete_pdf ? map->compensated.pdf(uv) : map->distribution.pdf(uv);
-    return p / (4 * kPi);
+    const Float p = map_pdf(w, allow_incomplete_pdf);
+    return portal ? Float(0.5) * (p + portal->pdf_through(ctx.p, normalize(w))) : p;
 }
 
 Float ImageInfiniteLight::phi_y() const {
+    if (portal) return portal_phi_y;
     // As the uniform light: radiance over the sphere of directions, through a disk of the
     // scene's radius (pbrt-v4's Phi), with the map's mean luminance.
     return 4 * kPi * kPi * sqr(scene_radius) * scale * map->mean_y *

@@ -190,13 +190,13 @@ std::optional<LightLiSample> sample_li(const Light& light, const LightSampleCont
     return std::visit([&](const auto& l) { return l.sample_li(ctx, u, lambda); }, light);
 }
 
-SampledSpectrum infinite_le(const Light& light, Vec3 dir, const SampledWavelengths& lambda,
+SampledSpectrum infinite_le(const Light& light, const Ray& ray, const SampledWavelengths& lambda,
                             Float* pdf, bool allow_incomplete_pdf) {
     if (const auto* im = std::get_if<ImageInfiniteLight>(&light))
-        return im->le(dir, lambda, pdf, allow_incomplete_pdf);
+        return im->le(ray.o, ray.d, lambda, pdf, allow_incomplete_pdf);
     if (const auto* un = std::get_if<UniformInfiniteLight>(&light)) {
-        if (pdf) *pdf = un->pdf_li({}, dir);
-        return un->le(dir, lambda);
+        if (pdf) *pdf = un->pdf_li({}, ray.d);
+        return un->le(ray.d, lambda);
     }
     if (pdf) *pdf = 0;
     return SampledSpectrum(0);

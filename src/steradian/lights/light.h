@@ -110,6 +110,10 @@ struct EnvironmentMap {
     /// over the light's upper hemisphere (z > 0) times 4 pi: the map's illuminance on an
     /// upward patch in its own frame, per unit of scale.
     Float mean_y = 0, upper_illuminance = 0;
+    /// The texels' luminance summed over coarse_res x coarse_res equal-area blocks (rows
+    /// from the top), for fluxes through a portal (each texel spans 4 pi / res^2 sr).
+    int coarse_res = 0;
+    std::vector<float> coarse_y;
 
     /// The radiance of the texel at (u, v), before the light's scale.
     SampledSpectrum le(Point2 uv, const SampledWavelengths& lambda) const;
@@ -126,6 +130,20 @@ std::shared_ptr<const EnvironmentMap> make_environment_map(const std::vector<flo
 
 /// Radiance from every direction given by an environment map, rotated by the light's
 /// transformation (pbrt-v4's "infinite" light with "filename").
+/// pbrt-v4's infinite-light portal ("point3 portal"): a world-space parallelogram p0, p1,
+/// p2, p3 (a window) through which alone the light reaches the scene. Its normal n is
+/// normalize((p3 - p0) x (p1 - p0)) (pbrt-v4's portal frame z); the light's radiance is zero
+/// in directions w with w . n <= 0.
+struct InfinitePortal {
+    Point3 p0;
+    Vec3 e1, e3;  ///< p1 - p0, p3 - p0
+    Normal3 n;
+    Float area = 0;
+    /// Solid-angle density at `from` of a direction w (unit) aimed at a uniformly chosen
+    /// point of the portal: dist^2 / (area |cos|) where the ray meets it, else 0.
+    Float pdf_through(Point3 from, Vec3 w) const;
+};
+
 struct ImageInfiniteLight {
     std::shared_ptr<const EnvironmentMap> map;
     Transform light_from_world;  ///< directions only
@@ -133,6 +151,11 @@ struct ImageInfiniteLight {
     Float scale = 1;
     Point3 scene_center;
     Float scene_radius = 1;
+    /// With a portal, light samples are drawn half from the map's distribution and half
+    /// uniformly over the portal's area (one-sample MIS over the two, the density the
+    /// average of both), so a room lit through a small window finds it.
+    std::optional<InfinitePortal> portal;
+    Float portal_phi_y = 0;  ///< with a portal: the luminous flux through it (phi_y())
     /// allow_incomplete_pdf: sample the compensated density (only when the caller combines
     /// the light sample with a BSDF sample by MIS, which covers the rest), as pbrt-v4.
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Point2 u,
@@ -141,10 +164,13 @@ struct ImageInfiniteLight {
     Float pdf_li(const LightSampleContext& ctx, Vec3 w, bool allow_incomplete_pdf = false) const;
     Float phi_y() const;
     bool is_delta() const { return false; }
-    /// Radiance arriving along a ray that escapes in world direction dir; with `pdf`, also
-    /// pdf_li(dir, allow_incomplete_pdf) (one mapping of the direction for both).
-    SampledSpectrum le(Vec3 dir, const SampledWavelengths& lambda, Float* pdf = nullptr,
-                       bool allow_incomplete_pdf = false) const;
+    /// Radiance arriving along a ray that escapes from `origin` in world direction dir;
+    /// with `pdf`, also pdf_li at origin (one mapping of the direction for both).
+    SampledSpectrum le(Point3 origin, Vec3 dir, const SampledWavelengths& lambda,
+                       Float* pdf = nullptr, bool allow_incomplete_pdf = false) const;
+
+private:
+    Float map_pdf(Vec3 w, bool allow_incomplete_pdf) const;
 };
 
 /// A luminous intensity distribution from a photometric file (IES LM-63 or EULUMDAT)
@@ -270,8 +296,8 @@ std::optional<LightLiSample> sample_li(const Light& light, const LightSampleCont
 
 /// Radiance at infinity along an escaping ray for the lights with radiance at infinity
 /// (Scene::infinite_lights), zero for the others; with `pdf`, also the solid-angle density
-/// of sample_li(..., allow_incomplete_pdf) choosing that direction.
-SampledSpectrum infinite_le(const Light& light, Vec3 dir, const SampledWavelengths& lambda,
+/// of sample_li(..., allow_incomplete_pdf) at the ray's origin choosing its direction.
+SampledSpectrum infinite_le(const Light& light, const Ray& ray, const SampledWavelengths& lambda,
                             Float* pdf = nullptr, bool allow_incomplete_pdf = false);
 Float light_phi_y(const Light& light);
 

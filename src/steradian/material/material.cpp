@@ -109,17 +109,22 @@ void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, Surfac
     Vec3 dpdu = h.dpdu, dpdv = h.dpdv;
     if (c.displacement >= 0) {
         const FloatTexture& d = (*ctx.float_textures)[c.displacement];
-        constexpr Float kDuv = Float(0.0005);
+        // The finite-difference steps: half the footprint's extent in u and v, or 0.0005
+        // without a footprint (pbrt-v4's BumpMap).
+        Float step_u = Float(0.5) * (std::abs(h.dudx) + std::abs(h.dudy));
+        Float step_v = Float(0.5) * (std::abs(h.dvdx) + std::abs(h.dvdy));
+        if (step_u == 0) step_u = Float(0.0005);
+        if (step_v == 0) step_v = Float(0.0005);
         Float d0 = evaluate(d, h);
         SurfaceHit sh = h;
-        sh.p = h.p + h.dpdu * kDuv;
-        sh.uv = Point2(h.uv.x + kDuv, h.uv.y);
+        sh.p = h.p + h.dpdu * step_u;
+        sh.uv = Point2(h.uv.x + step_u, h.uv.y);
         Float du = evaluate(d, sh);
-        sh.p = h.p + h.dpdv * kDuv;
-        sh.uv = Point2(h.uv.x, h.uv.y + kDuv);
+        sh.p = h.p + h.dpdv * step_v;
+        sh.uv = Point2(h.uv.x, h.uv.y + step_v);
         Float dv = evaluate(d, sh);
-        dpdu = h.dpdu + ns * ((du - d0) / kDuv) + h.dndu * d0;
-        dpdv = h.dpdv + ns * ((dv - d0) / kDuv) + h.dndv * d0;
+        dpdu = h.dpdu + ns * ((du - d0) / step_u) + h.dndu * d0;
+        dpdv = h.dpdv + ns * ((dv - d0) / step_v) + h.dndv * d0;
         Vec3 n = cross(dpdu, dpdv);
         if (!(length_squared(n) > 0)) return;
         n = normalize(n);

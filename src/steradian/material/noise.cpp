@@ -62,24 +62,51 @@ Float perlin_noise(Float x, Float y, Float z) {
     return lerp(wz, y0, y1);
 }
 
-Float fbm(Point3 p, Float omega, int octaves) {
+namespace {
+/// The number of octaves a footprint allows (pbrt-v4's FBm / Turbulence).
+Float octaves_for(Vec3 dpdx, Vec3 dpdy, int max_octaves) {
+    const Float len2 = std::max(length_squared(dpdx), length_squared(dpdy));
+    if (!(len2 > 0)) return Float(max_octaves);
+    return std::clamp(-1 - std::log2(len2) / 2, Float(0), Float(max_octaves));
+}
+Float smoothstep(Float x, Float a, Float b) {
+    const Float t = std::clamp((x - a) / (b - a), Float(0), Float(1));
+    return t * t * (3 - 2 * t);
+}
+Point3 scaled(Point3 p, Float s) { return Point3(p.x * s, p.y * s, p.z * s); }
+}  // namespace
+
+Float fbm(Point3 p, Vec3 dpdx, Vec3 dpdy, Float omega, int max_octaves) {
+    const Float n = octaves_for(dpdx, dpdy, max_octaves);
+    const int n_int = int(std::floor(n));
     Float sum = 0, scale = 1, o = 1;
-    for (int i = 0; i < octaves; ++i) {
-        sum += o * perlin_noise(Point3(p.x * scale, p.y * scale, p.z * scale));
+    for (int i = 0; i < n_int; ++i) {
+        sum += o * perlin_noise(scaled(p, scale));
         scale *= Float(1.99);
         o *= omega;
     }
+    const Float partial = n - Float(n_int);
+    if (partial > 0) sum += o * smoothstep(partial, Float(0.3), Float(0.7)) * perlin_noise(scaled(p, scale));
     return sum;
 }
 
-Float turbulence(Point3 p, Float omega, int octaves) {
+Float turbulence(Point3 p, Vec3 dpdx, Vec3 dpdy, Float omega, int max_octaves) {
+    const Float n = octaves_for(dpdx, dpdy, max_octaves);
+    const int n_int = int(std::floor(n));
     Float sum = 0, scale = 1, o = 1;
-    for (int i = 0; i < octaves; ++i) {
-        sum += o * std::abs(perlin_noise(Point3(p.x * scale, p.y * scale, p.z * scale)));
+    for (int i = 0; i < n_int; ++i) {
+        sum += o * std::abs(perlin_noise(scaled(p, scale)));
         scale *= Float(1.99);
         o *= omega;
     }
-    return sum + o * Float(0.2);
+    // The partial octave fades from 0.2 to |noise|; the octaves left out count 0.2 each.
+    const Float fade = smoothstep(n - Float(n_int), Float(0.3), Float(0.7));
+    sum += o * ((1 - fade) * Float(0.2) + fade * std::abs(perlin_noise(scaled(p, scale))));
+    for (int i = n_int; i < max_octaves; ++i) {
+        sum += o * Float(0.2);
+        o *= omega;
+    }
+    return sum;
 }
 
 }  // namespace sr

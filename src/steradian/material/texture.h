@@ -1,6 +1,7 @@
 #pragma once
 /// Textures: float- and spectrum-valued, a std::variant of plain structs each.
-/// Image textures are bilinearly filtered, looked up by (u, v) with pbrt-v4's uv mapping
+/// Image textures are MIP-mapped and filtered over the pixel's footprint as pbrt-v4 does
+/// (point, bilinear, trilinear, EWA), looked up by (u, v) with pbrt-v4's uv mapping
 /// (s = su * u + du, t = sv * v + dv; the image's first row is t = 1).
 #include <memory>
 #include <variant>
@@ -19,6 +20,12 @@ enum class SpectrumKind { Albedo, Unbounded, Illuminant };
 /// (the CTM at the Texture directive): "spherical" s = theta / pi, t = phi / 2 pi of p about
 /// the origin (theta from +z); "cylindrical" s = (pi + atan2(y, x)) / 2 pi, t = z;
 /// "planar" s = du + p . v1, t = dv + p . v2.
+/// Texture coordinates (s, t) and their change from one pixel to the next in x and y.
+struct TexCoord2 {
+    Point2 st;
+    Float dsdx = 0, dsdy = 0, dtdx = 0, dtdy = 0;
+};
+
 struct UvMapping {
     enum class Kind { Uv, Spherical, Cylindrical, Planar };
     Kind kind = Kind::Uv;
@@ -31,17 +38,44 @@ struct UvMapping {
         return map_position(h.p);
     }
     Point2 map_position(Point3 p_world) const;
+    /// (s, t) and their derivatives from the hit's footprint (SurfaceHit::dudx, dpdx, ...):
+    /// the chain rule through the mapping.
+    TexCoord2 map_footprint(const SurfaceHit& h) const;
 };
 
 enum class WrapMode { Repeat, Clamp, Black };
 
-/// An RGB or single-channel image in linear values, shared between textures.
+/// pbrt-v4's MIP-map filters (an imagemap's "filter").
+enum class TextureFilter { Point, Bilinear, Trilinear, Ewa };
+
+/// An RGB or single-channel image in linear values, shared between textures, with its
+/// MIP pyramid when build_pyramid() was called.
 struct TextureImage {
     Image image;
     WrapMode wrap = WrapMode::Repeat;
-    /// Bilinear lookup at (s, t) in [0,1]^2 texture space; returns up to 3 channels
-    /// (a single-channel image is replicated).
-    Rgb bilerp(Point2 st) const;
+    /// Levels 1, 2, ... of the pyramid (level 0 is `image`): each level ceil(w/2) x ceil(h/2)
+    /// of the one below, every texel the exact area average of the texels it covers (so a
+    /// level's mean is the image's), down to 1 x 1.
+    std::vector<Image> pyramid;
+    void build_pyramid();
+    int levels() const { return 1 + int(pyramid.size()); }
+    const Image& level(int i) const { return i == 0 ? image : pyramid[size_t(i) - 1]; }
+
+    /// Bilinear lookup at (s, t) in [0,1]^2 texture space in level `lev`; returns up to 3
+    /// channels (a single-channel image is replicated).
+    Rgb bilerp(Point2 st, int lev = 0) const;
+    /// Texel (x, y) of level `lev` (x right, y down), wrapped by the wrap mode.
+    Rgb texel(int lev, int x, int y) const;
+    /// pbrt-v4's MIPMap::Filter: the level is chosen from the footprint's width (twice its
+    /// largest derivative); point, bilinear (at that level) or trilinear (between it and
+    /// the next, except below level 1, as pbrt-v4); EWA: an elliptically weighted average
+    /// (Heckbert 1989, Gaussian weights exp(-2 r^2) - exp(-2)) over the footprint's ellipse,
+    /// its minor axis widened to at least major / max_aniso, at the level of the minor axis
+    /// and the next, blended. A zero footprint is a bilinear lookup of level 0.
+    Rgb filter(const TexCoord2& c, TextureFilter f, Float max_aniso) const;
+
+private:
+    Rgb ewa(int lev, Point2 st, Vec2 d0, Vec2 d1) const;
 };
 
 struct ConstantFloatTexture {
@@ -54,6 +88,8 @@ struct ImageFloatTexture {
     UvMapping mapping;
     Float scale = 1;
     bool invert = false;
+    TextureFilter filter = TextureFilter::Bilinear;
+    Float max_aniso = 8;
     Float evaluate(const SurfaceHit& h) const;
 };
 
@@ -98,13 +134,11 @@ bool dots_inside(const UvMapping& m, const SurfaceHit& h);
 Float evaluate(const FloatTexture& t, const SurfaceHit& h);
 
 /// pbrt-v4's 2D checkerboard: tex1 on the squares where floor(s) + floor(t) is even, tex2
-/// on the others ((s, t) from the uv mapping). Point-sampled: steradian has no ray
-/// differentials, so pbrt-v4's box-filtered edges (which only matter where a pixel covers
-/// several squares) are not reproduced.
-inline bool checkerboard_even(const UvMapping& m, const SurfaceHit& h) {
-    Point2 st = m.map(h);
-    return (int64_t(std::floor(st.x)) + int64_t(std::floor(st.y))) % 2 == 0;
-}
+/// on the others ((s, t) from the mapping). Returns the weight of tex2: 0 or 1 for a zero
+/// footprint, else the checker pattern filtered over the footprint as pbrt-v4 filters it (a
+/// separable triangle filter of half-width 1.5 x the largest derivative of s, and of t; its
+/// closed-form integral).
+Float checkerboard_weight(const UvMapping& m, const SurfaceHit& h);
 
 /// Composite textures own copies of their inputs (textures are immutable once built).
 struct ScaleFloatTexture {
@@ -145,6 +179,8 @@ struct ImageSpectrumTexture {
     UvMapping mapping;
     Float scale = 1;
     bool invert = false;
+    TextureFilter filter = TextureFilter::Bilinear;
+    Float max_aniso = 8;
     SpectrumKind kind = SpectrumKind::Albedo;
     SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
 };
@@ -163,10 +199,21 @@ struct BilerpSpectrumTexture {
 
 struct DotsSpectrumTexture;
 
+/// pbrt-v4's "marble": m = p.y + variation fbm(p, omega, octaves) of the position p in the
+/// texture's space times `scale` (the noise band-limited by the footprint), t = (1 + sin m)
+/// / 2, and the colour 1.5 x pbrt-v4's marble spline at t, an sRGB albedo.
+struct MarbleSpectrumTexture {
+    Transform texture_from_world;
+    int octaves = 8;
+    Float omega = Float(0.5), scale = 1, variation = Float(0.2);
+    SampledSpectrum evaluate(const SurfaceHit& h, const SampledWavelengths& lambda) const;
+};
+
 using SpectrumTexture = std::variant<ConstantSpectrumTexture, ImageSpectrumTexture,
                                      ScaleSpectrumTexture, MixSpectrumTexture,
                                      CheckerboardSpectrumTexture, DirectionMixSpectrumTexture,
-                                     BilerpSpectrumTexture, DotsSpectrumTexture>;
+                                     BilerpSpectrumTexture, DotsSpectrumTexture,
+                                     MarbleSpectrumTexture>;
 SampledSpectrum evaluate(const SpectrumTexture& t, const SurfaceHit& h,
                          const SampledWavelengths& lambda);
 

@@ -66,6 +66,9 @@ public:
     std::vector<Meter> meters;  ///< Meter directives (docs/photometry.md)
 
     std::unique_ptr<Camera> camera;
+    /// Some texture filters by the footprint of a pixel (mip-mapped images, checkerboards,
+    /// noise): the renderer then computes each camera path vertex's dpdx, dpdy, ... .
+    bool texture_footprints = false;
     FilmParams film;
     std::unique_ptr<Filter> filter;
     SamplerSettings sampler;

@@ -14,7 +14,7 @@ namespace sr {
 namespace {
 
 // SurfaceHit is compared byte for byte below: it must have no padding.
-static_assert(sizeof(SurfaceHit) == 37 * 4, "SurfaceHit: 37 four-byte fields, no padding");
+static_assert(sizeof(SurfaceHit) == 47 * 4, "SurfaceHit: 47 four-byte fields, no padding");
 
 // One shape of each kind the accelerator fills differently: a curved triangle mesh with vertex
 // normals (its hits have normal derivatives), a flat mesh without, a sphere, a disk, and an
@@ -179,7 +179,7 @@ TEST(SceneBuild, UnsupportedThingsAreAllReportedInFileOrder) {
     const std::string msg = build_error(R"(Camera "spherical"
 Sampler "halton" "integer pixelsamples" 4 "string bogus" "x"
 WorldBegin
-Texture "t" "spectrum" "marble"
+Texture "t" "spectrum" "ptex"
 Material "hair"
 MakeNamedMaterial "m" "string type" "diffuse" "texture reflectance" "t" "float sigma" 2
 NamedMaterial "m"
@@ -198,7 +198,7 @@ Shape "disk"
     for (const char* want :
          {"\nt.pbrt:1:1: Camera \"spherical\" is not supported yet",
           "\nt.pbrt:2:43: unused parameter \"string bogus\" for Sampler \"halton\"",
-          "\nt.pbrt:4:1: Texture \"marble\" is not supported yet",
+          "\nt.pbrt:4:1: Texture \"ptex\" is not supported yet",
           "\nt.pbrt:5:1: material type \"hair\" is not supported yet",
           "\nt.pbrt:6:73: unused parameter \"float sigma\"",
           "\nt.pbrt:8:1: shape type \"curve\" is not supported yet",

@@ -43,6 +43,11 @@ public:
 
     /// Leaves the first vertex's light sample in `d`, its shadow ray untested (path_li_from).
     void defer_first_shadow(DeferredShadowRay* d) { m_first_shadow = d; }
+    /// Gives the vertices texture footprints at this scale; the first hit has its own.
+    void use_footprints(Float scale) {
+        m_footprint_scale = scale;
+        m_first_footprint = scale > 0;
+    }
 
     /// Follows `ray` until the path ends.
     void trace(Ray ray) {
@@ -62,6 +67,14 @@ public:
                 return;
             }
             if (hit.light >= 0) emitted(hit);
+            if (m_footprint_scale > 0) {
+                if (!m_first_footprint && hit.material >= 0) {
+                    m_scene.camera->approximate_dp_dxy(hit.p, hit.ng, m_footprint_scale,
+                                                       hit.dpdx, hit.dpdy);
+                    set_uv_differentials(hit);
+                }
+                m_first_footprint = false;
+            }
             // Initialised from make_bsdf's result itself (assigning it copied it once more).
             std::optional<Bsdf> bsdf =
                 hit.material >= 0
@@ -137,7 +150,7 @@ private:
             // compensated one of an image light, as sample_light draws it).
             const bool mis = !(m_depth == 0 || m_specular_bounce || !m_use_nee);
             Float pdf = 0;
-            const SampledSpectrum le = infinite_le(m_scene.lights[li], ray.d, m_lambda,
+            const SampledSpectrum le = infinite_le(m_scene.lights[li], ray, m_lambda,
                                                    mis ? &pdf : nullptr, m_use_bsdf_hits);
             Float w = hit_weight(mis ? m_scene.light_sampler.pmf(li) * pdf : 0);
             if (w > 0) L += m_beta * le * w;
@@ -214,6 +227,8 @@ private:
     int m_depth = 0;
     int m_interface_crossings = 0;
     DeferredShadowRay* m_first_shadow = nullptr;
+    Float m_footprint_scale = 0;
+    bool m_first_footprint = false;  ///< the current hit is the camera ray's, footprint set
 };
 
 }  // namespace
@@ -227,10 +242,12 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
 
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
                              SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, DeferredShadowRay* first_shadow) {
+                             PathCounters& counters, DeferredShadowRay* first_shadow,
+                             Float footprint_scale) {
     PathState path(scene, lambda, sampler, counters, PathLimits{});
     if (first_shadow) first_shadow->pending = false;
     path.defer_first_shadow(first_shadow);
+    path.use_footprints(footprint_scale);
     ++counters.rays;
     path.trace(ray, found, hit);
     return path.L;

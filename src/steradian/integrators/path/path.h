@@ -60,9 +60,14 @@ struct DeferredShadowRay {
 /// from then on. With `first_shadow`, the first vertex's light sample is left to the caller
 /// there (pending if it has a shadow ray to test) instead of being tested and added. The sum
 /// of the result and an unblocked deferred contribution is path_li(scene, ray, ...).
+///
+/// With footprint_scale > 0 (a scene whose textures filter by footprint), `hit` carries the
+/// camera ray's footprint (set_footprint_from_rays) and every later vertex gets the camera's
+/// approximate one (Camera::approximate_dp_dxy) at that scale.
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
                              SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, DeferredShadowRay* first_shadow = nullptr);
+                             PathCounters& counters, DeferredShadowRay* first_shadow = nullptr,
+                             Float footprint_scale = 0);
 
 /// Radiance leaving `vertex` towards vertex.wo, scattered by `bsdf` there (a surface the
 /// scene does not contain, e.g. a meter's ideal Lambertian receiver): the path starts with

@@ -85,6 +85,7 @@ class Builder {
 
     // ---- textures (textures.cpp) -------------------------------------------------------
     std::shared_ptr<const TextureImage> load_image(const TextureDesc& t, const ParamSet& ps);
+    void read_filter(const TextureDesc& t, const ParamSet& ps, TextureFilter& f, Float& max_aniso);
     /// The environment map of an image "infinite" light (errors located at `loc`).
     std::shared_ptr<const EnvironmentMap> environment_map(const std::string& path,
                                                           const SourceLoc& loc,
@@ -183,6 +184,8 @@ class Builder {
     Spectrum illum_param(const ParamSet& ps, std::string_view name);
     static Float photometric_or_fail(const Spectrum& s, const SourceLoc& loc);
     void add_light(Scene& s, const LightDesc& l, Point3 center, Float radius);
+    void read_portal(ImageInfiniteLight& il, const Param& p, const ParamSet& ps,
+                     const std::string& what);
     void add_area_light(Scene& s, int shape_index, const AreaLightDesc& a);
 
     const SceneDesc& m_d;

@@ -1,6 +1,7 @@
 /// Light sources (point, spot, distant, infinite) and the area lights of shapes.
 #include <cmath>
 
+#include "steradian/sampling/warp.h"
 #include "steradian/scene/build/builder.h"
 
 namespace sr::build_detail {
@@ -157,8 +158,6 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         ps.check_unused(what);
         s.lights.push_back(dl);
     } else if (l.type == "infinite" && ps.find("filename")) {
-        if (ps.find("portal"))
-            throw_unsupported(l.loc, "{}: portal infinite lights are not supported yet", what);
         if (ps.find_spectrum("L"))
             throw_error(l.loc, "{}: both \"L\" and \"filename\" given; pbrt-v4 takes one",
                         what);
@@ -186,12 +185,16 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         il.light_from_world = x.inverse();
         il.scene_center = center;
         il.scene_radius = radius;
+        if (const Param* pp = ps.find("portal")) read_portal(il, *pp, ps, what);
         ps.check_unused(what);
         s.infinite_lights.push_back(int(s.lights.size()));
         s.lights.push_back(il);
     } else if (l.type == "infinite") {
         if (ps.find("portal"))
-            throw_unsupported(l.loc, "{}: portal infinite lights are not supported yet", what);
+            throw_unsupported(l.loc,
+                              "{}: a portal with a uniform \"L\" is not supported (give the "
+                              "light an image \"filename\")",
+                              what);
         UniformInfiniteLight il;
         Spectrum L = illum_param(ps, "L");
         il.radiance = densely_sampled(L);
@@ -209,6 +212,48 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         throw_unsupported(
             l.loc, "light type \"{}\" is not supported yet (see docs/pbrt-support.md)", l.type);
     }
+}
+
+/// pbrt-v4's "point3 portal": four world-space points (not moved by the light's CTM, as in
+/// pbrt-v4) of a planar parallelogram; and the luminous flux through it (for the light
+/// sampler), A times the integral of Y cos over the directions coming in through it.
+void Builder::read_portal(ImageInfiniteLight& il, const Param& p, const ParamSet& ps,
+                          const std::string& what) {
+    const std::vector<Point3> q = ps.get_point3s("portal");
+    if (q.size() != 4)
+        throw_error(p.loc, "{}: \"portal\" needs 4 points, not {}", what, q.size());
+    InfinitePortal portal;
+    portal.p0 = q[0];
+    portal.e1 = q[1] - q[0];
+    portal.e3 = q[3] - q[0];
+    const Vec3 c = cross(portal.e3, portal.e1);
+    portal.area = length(c);
+    const Float size = std::max(length(portal.e1), length(portal.e3));
+    if (!(portal.area > 0) || !std::isfinite(portal.area) ||
+        !(portal.area > 1e-6f * size * size))
+        throw_error(p.loc, "{}: the \"portal\" points span no area", what);
+    portal.n = c / portal.area;
+    // pbrt-v4 asks for a planar rectangle; any planar parallelogram is exact here.
+    if (length(q[0] + portal.e1 + portal.e3 - q[2]) > 1e-3f * size)
+        throw_error(p.loc,
+                    "{}: the \"portal\" is not a planar parallelogram (p0 + (p1 - p0) + (p3 - "
+                    "p0) must be p2)",
+                    what);
+    il.portal = portal;
+    // Flux through the portal from the map's coarse luminance blocks.
+    const EnvironmentMap& m = *il.map;
+    const int cr = m.coarse_res;
+    double sum = 0;
+    for (int by = 0; by < cr; ++by)
+        for (int bx = 0; bx < cr; ++bx) {
+            const Vec3 w = normalize(il.world_from_light.vector(equal_area_square_to_sphere(
+                Point2((Float(bx) + Float(0.5)) / Float(cr), (Float(by) + Float(0.5)) / Float(cr)))));
+            const Float cosine = dot(w, portal.n);
+            if (cosine > 0) sum += double(m.coarse_y[size_t(by) * size_t(cr) + size_t(bx)]) * cosine;
+        }
+    const double texel_sr = 4 * kPi / (double(m.res) * double(m.res));
+    il.portal_phi_y = Float(double(portal.area) * sum * texel_sr * il.scale *
+                            spectrum_to_photometric(m.illuminant));
 }
 
 void Builder::add_area_light(Scene& s, int shape_index, const AreaLightDesc& a) {

@@ -144,6 +144,7 @@ void Builder::build_camera(const CameraDesc& c) {
         cc.type = type;
         unsupported(cc, "Camera");
     }
+    if (m_s.camera) m_s.camera->find_min_differentials(cp.resolution);
 }
 
 void Builder::build_filter(const EntityDesc& f) {

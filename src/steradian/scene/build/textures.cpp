@@ -32,8 +32,32 @@ std::shared_ptr<const TextureImage> Builder::load_image(const TextureDesc& t, co
         img->wrap = WrapMode::Black;
     else
         throw_error(t.loc, "unknown wrap mode \"{}\"", wrap);
+    img->build_pyramid();
     m_images[key] = img;
     return img;
+}
+
+/// An imagemap's "filter" (pbrt-v4's names; default "bilinear") and "maxanisotropy" (8).
+void Builder::read_filter(const TextureDesc& t, const ParamSet& ps, TextureFilter& f,
+                          Float& max_aniso) {
+    const std::string name = ps.get_string("filter", "bilinear");
+    if (name == "point")
+        f = TextureFilter::Point;
+    else if (name == "bilinear")
+        f = TextureFilter::Bilinear;
+    else if (name == "trilinear")
+        f = TextureFilter::Trilinear;
+    else if (name == "ewa" || name == "EWA")
+        f = TextureFilter::Ewa;
+    else
+        throw_error(ps.find("filter")->loc,
+                    "Texture \"{}\": unknown filter \"{}\" (point, bilinear, trilinear or ewa)",
+                    t.name, name);
+    max_aniso = ps.get_float("maxanisotropy", 8);
+    if (!(max_aniso >= 1) || !std::isfinite(max_aniso))
+        throw_error(ps.find("maxanisotropy")->loc,
+                    "Texture \"{}\": \"maxanisotropy\" must be a finite number >= 1", t.name);
+    m_s.texture_footprints = true;
 }
 
 /// "directionmix"'s "dir" (default (0, 1, 0)) in the texture's space, as a unit world vector.
@@ -102,8 +126,7 @@ void Builder::build_float_texture(const TextureDesc& t) {
         it.image = load_image(t, ps);
         it.scale = ps.get_float("scale", 1);
         it.invert = ps.get_bool("invert", false);
-        ps.get_string("filter", "bilinear");
-        ps.get_float("maxanisotropy", 8);
+        read_filter(t, ps, it.filter, it.max_aniso);
         tex = it;
     } else if (t.type == "scale") {
         tex = ScaleFloatTexture{float_tex_arg(ps, "tex", 1), float_tex_arg(ps, "scale", 1)};
@@ -112,6 +135,7 @@ void Builder::build_float_texture(const TextureDesc& t) {
                               float_tex_arg(ps, "amount", 0.5f)};
     } else if (t.type == "checkerboard") {
         check_checkerboard_dimension(t, ps);
+        m_s.texture_footprints = true;
         tex = CheckerboardFloatTexture{float_tex_arg(ps, "tex1", 1), float_tex_arg(ps, "tex2", 0),
                                        read_mapping(t, ps)};
     } else if (t.type == "directionmix") {
@@ -124,6 +148,7 @@ void Builder::build_float_texture(const TextureDesc& t) {
                                         : NoiseFloatTexture::Kind::Windy;
         check_transform(t.world_from_texture, t.loc, "the texture's space");
         n.texture_from_world = t.world_from_texture.inverse();
+        m_s.texture_footprints = true;
         if (n.kind != NoiseFloatTexture::Kind::Windy) {
             n.octaves = ps.get_int("octaves", 8);
             n.omega = ps.get_float("roughness", 0.5f);
@@ -162,8 +187,7 @@ void Builder::build_spectrum_texture(const TextureDesc& t) {
         it.image = load_image(t, ps);
         it.scale = ps.get_float("scale", 1);
         it.invert = ps.get_bool("invert", false);
-        ps.get_string("filter", "bilinear");
-        ps.get_float("maxanisotropy", 8);
+        read_filter(t, ps, it.filter, it.max_aniso);
         ps.check_unused(fmt::format("Texture \"{}\"", t.name));
         m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
         m_s.spectrum_textures.push_back(it);
@@ -195,12 +219,30 @@ void Builder::build_spectrum_texture(const TextureDesc& t) {
                                    float_tex_arg(ps, "amount", 0.5f)};
         } else {
             check_checkerboard_dimension(t, ps);
+            m_s.texture_footprints = true;
             tex = CheckerboardSpectrumTexture{spectrum_tex_arg(ps, "tex1", 1),
                                               spectrum_tex_arg(ps, "tex2", 0), read_mapping(t, ps)};
         }
         ps.check_unused(fmt::format("Texture \"{}\"", t.name));
         m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
         m_s.spectrum_textures.push_back(std::move(tex));
+    } else if (t.type == "marble") {
+        build_rgb_uplift_table();
+        MarbleSpectrumTexture m;
+        check_transform(t.world_from_texture, t.loc, "the texture's space");
+        m.texture_from_world = t.world_from_texture.inverse();
+        m.octaves = ps.get_int("octaves", 8);
+        m.omega = ps.get_float("roughness", 0.5f);
+        m.scale = ps.get_float("scale", 1);
+        m.variation = ps.get_float("variation", 0.2f);
+        if (m.octaves < 0 || m.octaves > 64)
+            throw_error(t.loc, "Texture \"{}\": \"octaves\" must be from 0 to 64", t.name);
+        if (!std::isfinite(m.omega) || !std::isfinite(m.scale) || !std::isfinite(m.variation))
+            throw_error(t.loc, "Texture \"{}\": parameters must be finite", t.name);
+        m_s.texture_footprints = true;
+        ps.check_unused(fmt::format("Texture \"{}\"", t.name));
+        m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
+        m_s.spectrum_textures.push_back(m);
     } else {
         unsupported(t, "Texture");
     }
