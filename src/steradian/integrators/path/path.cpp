@@ -2,6 +2,7 @@
 
 #include <climits>
 
+#include "steradian/integrators/path/volpath.h"
 #include "steradian/scene/scene.h"
 
 namespace sr {
@@ -220,6 +221,13 @@ private:
 
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
                         PathCounters& counters, const PathLimits& limits) {
+    if (scene.integrator.volumetric) {
+        // (The builder refuses meters, the other users of limits, in scenes with media.)
+        SurfaceHit hit;
+        ++counters.rays;
+        bool found = scene.intersect(ray, hit);
+        return volpath_li(scene, ray, scene.camera_medium, found, hit, lambda, sampler, counters);
+    }
     PathState path(scene, lambda, sampler, counters, limits);
     path.trace(ray);
     return path.L;
@@ -228,8 +236,12 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
                              SampledWavelengths& lambda, Sampler& sampler,
                              PathCounters& counters, DeferredShadowRay* first_shadow) {
-    PathState path(scene, lambda, sampler, counters, PathLimits{});
     if (first_shadow) first_shadow->pending = false;
+    if (scene.integrator.volumetric) {
+        ++counters.rays;
+        return volpath_li(scene, ray, scene.camera_medium, found, hit, lambda, sampler, counters);
+    }
+    PathState path(scene, lambda, sampler, counters, PathLimits{});
     path.defer_first_shadow(first_shadow);
     ++counters.rays;
     path.trace(ray, found, hit);
