@@ -2,11 +2,10 @@
 // closed forms of radiative transfer: Beer-Lambert attenuation, energy conservation of an
 // albedo-1 medium in a white furnace, the single-scattering radiance of a thin slab, and a
 // constant-density grid against the homogeneous medium it equals.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "support/render_util.h"
 
@@ -45,7 +44,8 @@ WorldBegin
 // sees exp(-sigma_a d) (Beer-Lambert), whatever the slab's sides do elsewhere.
 TEST(Media, BeerLambertThroughAnAbsorbingSlab) {
     const double sigma_a = 0.8, d = 1.5;
-    std::string scene = ortho_header(64, 5) + fmt::format(R"(
+    std::string scene =
+        ortho_header(64, 5) + fmt::format(R"(
 MakeNamedMedium "slab" "string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {}
 AttributeBegin
   MediumInterface "slab" ""
@@ -57,7 +57,9 @@ AttributeBegin
   Translate 0 0 -3
   Shape "trianglemesh" "point3 P" [ -5 -5 0  5 -5 0  5 5 0  -5 5 0 ] "integer indices" [ 0 1 2  0 2 3 ]
 AttributeEnd
-)", flat(sigma_a), flat(0), box(-3, -3, -d / 2, 3, 3, d / 2), flat(1));
+)",
+                                          flat(sigma_a), flat(0), box(-3, -3, -d / 2, 3, 3, d / 2),
+                                          flat(1));
     Rendered r = render_string(scene);
     MeanSe m = mean_se(r.y);
     const double expected = std::exp(-sigma_a * d);
@@ -90,7 +92,8 @@ MakeNamedMedium "cloud" "string type" "homogeneous" "spectrum sigma_a" {} "spect
 MediumInterface "cloud" ""
 Material "interface"
 Shape "sphere" "float radius" [ 1 ]
-)", flat(1), flat(0), flat(3), g);
+)",
+                                        flat(1), flat(0), flat(3), g);
         Rendered r = render_string(scene);
         // The sphere covers the pixels [4, 12)^2; its optical radius is 3.
         MeanSe c = mean_se(region(r, 5, 5, 11, 11));
@@ -105,7 +108,8 @@ Shape "sphere" "float radius" [ 1 ]
 // illuminance E, seen straight from above (maxdepth 1: one scattering event). Light reaching
 // depth z is E exp(-sigma_t z); scattered back towards the camera (wo = wi, the
 // Henyey-Greenstein value p(1) = (1 - g^2) / (4 pi (1 + g)^3)) and attenuated on the way up:
-//   L = int_0^d sigma_s p E exp(-2 sigma_t z) dz = sigma_s p E (1 - exp(-2 sigma_t d)) / (2 sigma_t).
+//   L = int_0^d sigma_s p E exp(-2 sigma_t z) dz = sigma_s p E (1 - exp(-2 sigma_t d)) / (2
+//   sigma_t).
 TEST(Media, SingleScatteringOfASlabMatchesTheClosedForm) {
     const double sigma_a = 0.3, sigma_s = 1.2, d = 0.5, g = 0.4, E = 10;
     std::string scene = ortho_header(128, 1) + fmt::format(R"(
@@ -115,7 +119,9 @@ MakeNamedMedium "slab" "string type" "homogeneous" "spectrum sigma_a" {} "spectr
 MediumInterface "slab" ""
 Material "interface"
 {}
-)", E, flat(sigma_a), flat(sigma_s), g, box(-50, -50, -d, 50, 50, 0));
+)",
+                                                           E, flat(sigma_a), flat(sigma_s), g,
+                                                           box(-50, -50, -d, 50, 50, 0));
     Rendered r = render_string(scene);
     MeanSe m = mean_se(r.y);
     const double st = sigma_a + sigma_s;
@@ -137,7 +143,8 @@ MakeNamedMedium "slab" {}
 MediumInterface "slab" ""
 Material "interface"
 {}
-)", medium, box(-5, -5, -d, 5, 5, 0));
+)",
+                                                   medium, box(-5, -5, -d, 5, 5, 0));
     };
     // The grid: 4 x 4 x 4 nodes over [-20, 20]^2 x [-2, 2]: its interior holds the slab.
     std::string density = "[";
@@ -167,14 +174,17 @@ TEST(Media, ErrorsAreLocated) {
             EXPECT_NE(std::string(e.what()).find("<test>:"), std::string::npos) << e.what();
         }
     };
-    expect_error("MediumInterface \"fog\" \"\"\nShape \"sphere\"\n", "medium \"fog\" is not defined");
+    expect_error("MediumInterface \"fog\" \"\"\nShape \"sphere\"\n",
+                 "medium \"fog\" is not defined");
     expect_error("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float g\" [ 1 ]\n",
                  "\"g\"");
-    expect_error("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Nope\"\n",
-                 "unknown medium preset");
-    expect_error("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 2 3 ]"
-                 " \"integer nx\" [ 2 ]\n",
-                 "expected nx * ny * nz");
+    expect_error(
+        "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Nope\"\n",
+        "unknown medium preset");
+    expect_error(
+        "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 2 3 ]"
+        " \"integer nx\" [ 2 ]\n",
+        "expected nx * ny * nz");
     expect_error("MakeNamedMedium \"m\" \"string type\" \"fancy\"\n", "unknown medium type");
     expect_error("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float foo\" [ 1 ]\n",
                  "foo");

@@ -56,8 +56,8 @@ TEST(CornellBoxFog, MatchesPbrtV4BlockByBlock) {
             mr /= double(diff.size());
             MeanSe m = mean_se(diff);
             EXPECT_LE(std::abs(m.mean), 4.5 * m.se + 1e-6)
-                << "block (" << bx << ", " << by << "): ours " << mo << " pbrt-v4 " << mr
-                << " se " << m.se;
+                << "block (" << bx << ", " << by << "): ours " << mo << " pbrt-v4 " << mr << " se "
+                << m.se;
             if (mr > 0 && 4.5 * m.se < 0.02 * mr) {
                 ++checked_2pc;
                 EXPECT_NEAR(mo / mr, 1.0, 0.02) << "block (" << bx << ", " << by << ")";
@@ -78,8 +78,11 @@ TEST(CornellBoxFog, MatchesPbrtV4BlockByBlock) {
             }
         MeanSe m = mean_se(diff);
         std::printf("%s: ours/pbrt-v4 %.4f (standard error of the difference %.4f relative)\n",
-                    c == 3 ? "luminance" : c == 0 ? "R" : c == 1 ? "G" : "B", mo / mr,
-                    m.se * double(diff.size()) / mr);
+                    c == 3   ? "luminance"
+                    : c == 0 ? "R"
+                    : c == 1 ? "G"
+                             : "B",
+                    mo / mr, m.se * double(diff.size()) / mr);
         EXPECT_LE(std::abs(m.mean), 4.5 * m.se) << "channel " << c;
         EXPECT_NEAR(mo / mr, 1.0, 0.01) << "channel " << c;
     }

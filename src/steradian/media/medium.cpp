@@ -192,8 +192,7 @@ std::optional<MajorantSegment> MajorantIterator::next() {
     int a = m_next_t[0] < m_next_t[1] ? (m_next_t[0] < m_next_t[2] ? 0 : 2)
                                       : (m_next_t[1] < m_next_t[2] ? 1 : 2);
     Float t_exit = std::min(m_next_t[a], m_t1);
-    MajorantSegment seg{m_t0, t_exit,
-                        m_sigma_t * m_grid->at(m_cell[0], m_cell[1], m_cell[2])};
+    MajorantSegment seg{m_t0, t_exit, m_sigma_t * m_grid->at(m_cell[0], m_cell[1], m_cell[2])};
     m_t0 = t_exit;
     if (t_exit >= m_t1) {
         m_done = true;

@@ -25,8 +25,8 @@ inline Float hg_phase(Float cos_theta, Float g) {
 }
 
 struct PhaseSample {
-    Vec3 wi;        ///< unit, away from the scattering point
-    Float p = 0;    ///< phase function value (= pdf: sampled exactly)
+    Vec3 wi;      ///< unit, away from the scattering point
+    Float p = 0;  ///< phase function value (= pdf: sampled exactly)
 };
 
 /// Samples wi with density hg_phase(dot(wo, wi), g) by inverting its CDF in cos_theta.
@@ -167,12 +167,12 @@ struct MajorantSegment {
 /// order: one for a homogeneous medium; the cells a grid medium's bounds cut from the ray,
 /// visited by a 3D DDA. Segments of zero majorant may be skipped.
 class MajorantIterator {
-public:
+  public:
     MajorantIterator(const Medium& m, const Ray& ray, Float t_max,
                      const SampledWavelengths& lambda);
     std::optional<MajorantSegment> next();
 
-private:
+  private:
     const MajorantGrid* m_grid = nullptr;
     SampledSpectrum m_sigma_t{0};
     Float m_t0 = 0, m_t1 = 0;

@@ -73,8 +73,8 @@ TEST(SampledGrid, InterpolatesBetweenCellCentres) {
 
 /// A "uniformgrid" medium over [p0, p1] with the given density grid, purely absorbing
 /// (sigma_a = 1 scaled by `scale`, sigma_s = 0).
-GridMedium absorbing_grid(int nx, int ny, int nz, std::vector<Float> density, Point3 p0,
-                          Point3 p1, Float scale) {
+GridMedium absorbing_grid(int nx, int ny, int nz, std::vector<Float> density, Point3 p0, Point3 p1,
+                          Float scale) {
     GridMedium m;
     m.p0 = p0, m.p1 = p1;
     m.sigma_a = ConstantSpectrum{1};
@@ -109,15 +109,15 @@ std::pair<Estimate, Estimate> track(const Medium& m, const Ray& ray, Float t_max
         double r = double(tr[0] * tm[0] / tm[0]);
         bool hit = false;
         Pcg32 rng2(uint64_t(i), 12);
-        sample_t_maj(m, ray, t_max, rng2.next_float(), rng2, lambda,
-                     [&](Point3, const MediumProperties& mp, SampledSpectrum sigma_maj,
-                         SampledSpectrum) {
-                         if (rng2.next_float() < mp.sigma_a[0] / sigma_maj[0]) {
-                             hit = true;
-                             return false;
-                         }
-                         return true;
-                     });
+        sample_t_maj(
+            m, ray, t_max, rng2.next_float(), rng2, lambda,
+            [&](Point3, const MediumProperties& mp, SampledSpectrum sigma_maj, SampledSpectrum) {
+                if (rng2.next_float() < mp.sigma_a[0] / sigma_maj[0]) {
+                    hit = true;
+                    return false;
+                }
+                return true;
+            });
         double d = hit ? 0 : 1;
         s[0] += r, s2[0] += r * r, s[1] += d, s2[1] += d * d;
     }

@@ -21,11 +21,15 @@ Pcg32 tracking_rng(uint64_t a, uint64_t b) { return Pcg32(hash(a), hash(b)); }
 /// contribution divided by the average of r_u (+ r_l) is then the one-sample MIS estimate over
 /// the four wavelengths and the two strategies (Miller, Georgiev and Jarosz 2019).
 class VolPath {
-public:
+  public:
     VolPath(const Scene& scene, SampledWavelengths& lambda, Sampler& sampler,
             PathCounters& counters)
-        : m_scene(scene), m_lambda(lambda), m_sampler(sampler), m_counters(counters),
-          m_max_depth(scene.integrator.max_depth), m_mctx(scene.material_context()) {}
+        : m_scene(scene),
+          m_lambda(lambda),
+          m_sampler(sampler),
+          m_counters(counters),
+          m_max_depth(scene.integrator.max_depth),
+          m_mctx(scene.material_context()) {}
 
     SampledSpectrum L{0};
 
@@ -42,13 +46,13 @@ public:
                 const Float u = m_sampler.get_1d();
                 const Vec3 wo = -normalize(ray.d);
                 Ray next;
-                SampledSpectrum t_maj = sample_t_maj(
-                    m_scene.media[size_t(medium)], ray, t_max, u, rng, m_lambda,
-                    [&](Point3 p, const MediumProperties& mp, SampledSpectrum sigma_maj,
-                        SampledSpectrum tm) {
-                        return collision(p, mp, sigma_maj, tm, wo, rng, scattered, terminated,
-                                         next);
-                    });
+                SampledSpectrum t_maj =
+                    sample_t_maj(m_scene.media[size_t(medium)], ray, t_max, u, rng, m_lambda,
+                                 [&](Point3 p, const MediumProperties& mp,
+                                     SampledSpectrum sigma_maj, SampledSpectrum tm) {
+                                     return collision(p, mp, sigma_maj, tm, wo, rng, scattered,
+                                                      terminated, next);
+                                 });
                 if (terminated || m_beta.is_zero() || m_r_u.is_zero()) return;
                 if (scattered) {
                     ray = next;
@@ -105,7 +109,7 @@ public:
         }
     }
 
-private:
+  private:
     /// A surface scattering vertex for sample_light (null bsdf: a medium vertex).
     struct SurfaceVertex {
         const SurfaceHit* hit = nullptr;
@@ -123,8 +127,8 @@ private:
     /// A tentative collision of delta tracking: absorption, real scattering or null
     /// scattering, chosen with the hero wavelength's probabilities.
     bool collision(Point3 p, const MediumProperties& mp, SampledSpectrum sigma_maj,
-                   SampledSpectrum t_maj, Vec3 wo, Pcg32& rng, bool& scattered,
-                   bool& terminated, Ray& next) {
+                   SampledSpectrum t_maj, Vec3 wo, Pcg32& rng, bool& scattered, bool& terminated,
+                   Ray& next) {
         if (m_beta.is_zero()) {
             terminated = true;
             return false;
@@ -223,8 +227,8 @@ private:
             L += m_beta * le / m_r_u.average();
             return;
         }
-        Float p_l = m_scene.light_sampler.pmf(hit.light) *
-                    area.pdf_li_point(m_prev_ctx, hit.p, hit.ng);
+        Float p_l =
+            m_scene.light_sampler.pmf(hit.light) * area.pdf_li_point(m_prev_ctx, hit.p, hit.ng);
         SampledSpectrum r_l = m_r_l * p_l;
         L += m_beta * le / (m_r_u + r_l).average();
     }
@@ -263,9 +267,8 @@ private:
             Float p = hg_phase(dot(m_medium_wo, ls->wi), m_medium_g);
             f_hat = SampledSpectrum(p);
             scatter_pdf = p;
-            shadow = ls->at_infinity
-                         ? Ray{m_medium_p, ls->wi, kInfinity}
-                         : Ray{m_medium_p, ls->p_light - m_medium_p, 1 - Float(1e-4)};
+            shadow = ls->at_infinity ? Ray{m_medium_p, ls->wi, kInfinity}
+                                     : Ray{m_medium_p, ls->p_light - m_medium_p, 1 - Float(1e-4)};
         }
         SampledSpectrum r_l(1), r_u(1);
         SampledSpectrum tr = transmittance(shadow, shadow_medium, !ls->at_infinity, r_l, r_u);

@@ -39,8 +39,10 @@ Float nonnegative(const ParamSet& ps, std::string_view name, Float def) {
 Float hg_g(const ParamSet& ps) {
     Float g = ps.get_float("g", 0);
     if (!(g > -1 && g < 1))
-        throw_error(ps.find("g")->loc, "\"g\" (Henyey-Greenstein asymmetry) must be in (-1, 1), "
-                    "got {}", g);
+        throw_error(ps.find("g")->loc,
+                    "\"g\" (Henyey-Greenstein asymmetry) must be in (-1, 1), "
+                    "got {}",
+                    g);
     return g;
 }
 
@@ -51,8 +53,8 @@ std::array<int, 3> grid_size(const ParamSet& ps, size_t count, const SourceLoc& 
     for (int v : n)
         if (v < 1 || v > 1 << 14) throw_error(loc, "nx, ny and nz must be in [1, 16384]");
     if (int64_t(n[0]) * n[1] * n[2] != int64_t(count))
-        throw_error(loc, "{} has {} values; expected nx * ny * nz = {} x {} x {} = {}", what,
-                    count, n[0], n[1], n[2], int64_t(n[0]) * n[1] * n[2]);
+        throw_error(loc, "{} has {} values; expected nx * ny * nz = {} x {} x {} = {}", what, count,
+                    n[0], n[1], n[2], int64_t(n[0]) * n[1] * n[2]);
     return n;
 }
 
@@ -78,8 +80,10 @@ void grid_bounds(const ParamSet& ps, const SourceLoc& loc, Point3& p0, Point3& p
     p1 = ps.find_point3("p1").value_or(Point3(1, 1, 1));
     for (int a = 0; a < 3; ++a)
         if (!(p1[a] > p0[a]) || !std::isfinite(p0[a]) || !std::isfinite(p1[a]))
-            throw_error(loc, "the medium's bounds p0 ({}, {}, {}) and p1 ({}, {}, {}) are not a "
-                        "box (p0 < p1 in x, y and z)", p0.x, p0.y, p0.z, p1.x, p1.y, p1.z);
+            throw_error(loc,
+                        "the medium's bounds p0 ({}, {}, {}) and p1 ({}, {}, {}) are not a "
+                        "box (p0 < p1 in x, y and z)",
+                        p0.x, p0.y, p0.z, p1.x, p1.y, p1.z);
 }
 
 std::vector<Float> nonnegative_values(const ParamSet& ps, std::string_view name) {
@@ -103,8 +107,10 @@ HomogeneousMedium make_homogeneous(const MediumDesc& d, const std::string& base_
             m.sigma_a = rgb_unbounded_spectrum(a);
             m.sigma_s = rgb_unbounded_spectrum(s);
         } else {
-            throw_error(ps.find("preset")->loc, "unknown medium preset \"{}\" (the names are "
-                        "pbrt-v4's, e.g. \"Wholemilk\", \"Skin1\", \"Ketchup\")", preset);
+            throw_error(ps.find("preset")->loc,
+                        "unknown medium preset \"{}\" (the names are "
+                        "pbrt-v4's, e.g. \"Wholemilk\", \"Skin1\", \"Ketchup\")",
+                        preset);
         }
     }
     if (!have_preset) {
@@ -158,16 +164,14 @@ GridMedium make_uniform_grid(const MediumDesc& d, const std::string& base_dir) {
     m.sigma_a = coefficient_param(ps, "sigma_a", 1, base_dir);
     m.sigma_s = coefficient_param(ps, "sigma_s", 1, base_dir);
     m.scale = nonnegative(ps, "scale", 1);
-    m.temperature_offset =
-        ps.get_float("temperatureoffset", ps.get_float("temperaturecutoff", 0));
+    m.temperature_offset = ps.get_float("temperatureoffset", ps.get_float("temperaturecutoff", 0));
     m.temperature_scale = ps.get_float("temperaturescale", 1);
     m.medium_from_world = affine_of(d.world_from_medium.inverse());
     build_majorants(m);
     return m;
 }
 
-std::optional<SampledGrid<RgbUnboundedSpectrum>> rgb_grid(const ParamSet& ps,
-                                                          std::string_view name,
+std::optional<SampledGrid<RgbUnboundedSpectrum>> rgb_grid(const ParamSet& ps, std::string_view name,
                                                           std::array<int, 3> n) {
     const Param* p = ps.find(name, ParamType::Rgb);
     if (!p) return std::nullopt;
@@ -202,7 +206,8 @@ RgbGridMedium make_rgb_grid(const MediumDesc& d) {
             throw_error(p->loc, "\"{}\" has {} values but \"{}\" has {}", name, c, first, count);
         }
     }
-    if (count == 0) throw_error(d.loc, "an rgbgrid medium needs \"rgb sigma_a\" or \"rgb sigma_s\"");
+    if (count == 0)
+        throw_error(d.loc, "an rgbgrid medium needs \"rgb sigma_a\" or \"rgb sigma_s\"");
     if (ps.find("Le") && !ps.find("sigma_a"))
         throw_error(ps.find("Le")->loc, "an rgbgrid medium with \"Le\" needs \"sigma_a\"");
     auto n = grid_size(ps, count, d.loc, fmt::format("\"{}\"", first));
@@ -247,12 +252,14 @@ void Builder::build_media() {
     if (m_s.integrator.volumetric) {
         recorded([&] {
             if (m_s.integrator.strategy != LightStrategy::Mis)
-                throw_unsupported(m_d.integrator.loc, "\"strategy\" other than \"mis\" is not "
+                throw_unsupported(m_d.integrator.loc,
+                                  "\"strategy\" other than \"mis\" is not "
                                   "supported yet in a scene with participating media");
         });
         for (const MeterDesc& md : m_d.meters)
             recorded([&] {
-                throw_unsupported(md.loc, "meters in a scene with participating media are not "
+                throw_unsupported(md.loc,
+                                  "meters in a scene with participating media are not "
                                   "supported yet");
             });
     }
