@@ -234,8 +234,8 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
 }
 
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
-                             SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, DeferredShadowRay* first_shadow) {
+                             SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                             DeferredShadowRay* first_shadow) {
     if (first_shadow) first_shadow->pending = false;
     if (scene.integrator.volumetric) {
         ++counters.rays;

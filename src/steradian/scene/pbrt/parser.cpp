@@ -230,8 +230,7 @@ void Parser::make_named_medium(Stream& s, const SourceLoc& loc) {
     if (!type)
         for (const Param& p : m_gs.medium_attrs)
             if (p.name == "type") type = &p;
-    if (!type)
-        throw_error(loc, "MakeNamedMedium \"{}\": missing \"string type\" parameter", name);
+    if (!type) throw_error(loc, "MakeNamedMedium \"{}\": missing \"string type\" parameter", name);
     if (type->type != ParamType::String || type->strings.size() != 1)
         throw_error(type->loc,
                     "MakeNamedMedium \"{}\": \"type\" must be a single string, e.g. \"string "

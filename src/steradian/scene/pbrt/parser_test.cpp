@@ -452,11 +452,13 @@ Shape "sphere"
 TEST_F(PbrtParser, MediumErrorsAreLocated) {
     expect_error(R"(WorldBegin
 MakeNamedMedium "fog" "rgb sigma_a" [1 1 1]
-)", "missing \"string type\"", 2, 1);
+)",
+                 "missing \"string type\"", 2, 1);
     expect_error(R"(WorldBegin
 MakeNamedMedium "fog" "string type" "homogeneous"
 MakeNamedMedium "fog" "string type" "homogeneous"
-)", "redefined", 3, 1);
+)",
+                 "redefined", 3, 1);
 }
 
 TEST_F(PbrtParser, MotionBlurKeepsTheStartTransform) {
