@@ -163,6 +163,27 @@ Material "interface"
     EXPECT_NEAR(a.mean, b.mean, kZ * std::hypot(a.se, b.se)) << a.se << " " << b.se;
 }
 
+// Delta and ratio tracking draw their collisions from streams keyed by the sampler's values
+// (and the shadow ray), so a scene with media renders the same bits on any number of threads.
+TEST(Media, SameImageOnOneAndTwoThreads) {
+    std::string scene = ortho_header(8, 20) + fmt::format(R"(
+LightSource "distant" "point3 from" [ 0.3 0.2 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
+MakeNamedMedium "slab" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.4 0.9 ]
+  "rgb sigma_s" [ 1.5 1 0.5 ] "float g" [ 0.3 ]
+MediumInterface "slab" ""
+Material "interface"
+{}
+MediumInterface "" ""
+Material "diffuse"
+Shape "sphere" "float radius" [ 0.3 ]
+)",
+                                                          box(-5, -5, -1, 5, 5, 0));
+    Rendered a = render_string(scene, 1), b = render_string(scene, 2);
+    ASSERT_EQ(a.rgb.data.size(), b.rgb.data.size());
+    EXPECT_TRUE(a.rgb.data == b.rgb.data);
+    EXPECT_GT(mean_se(a.y).mean, 0);
+}
+
 TEST(Media, ErrorsAreLocated) {
     auto expect_error = [](const std::string& world, const std::string& what) {
         std::string scene = ortho_header(1, 1) + world;
