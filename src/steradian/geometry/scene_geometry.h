@@ -45,6 +45,11 @@ struct ShapeEntry {
     int light_offset = -1; ///< first light of this shape (one per triangle), or -1
     /// Cut-outs; null: opaque.
     std::shared_ptr<const AlphaMask> alpha;
+    /// MediumInterface: the media (indices into Scene::media, -1 = vacuum) on the side the
+    /// geometric normal points away from (inside) and towards (outside). Only a transition
+    /// (inside != outside) changes a ray's medium; other surfaces keep the ray's medium.
+    int medium_inside = -1, medium_outside = -1;
+    bool medium_transition() const { return medium_inside != medium_outside; }
 };
 
 /// ObjectBegin/ObjectEnd: shapes in their own space, instanced by Embree.

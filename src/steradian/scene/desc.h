@@ -22,6 +22,20 @@ struct EntityDesc {
 struct CameraDesc : EntityDesc {
     Transform camera_from_world;  ///< CTM at the Camera directive
     Transform world_from_camera;
+    std::string medium;  ///< the outside medium of the MediumInterface at Camera ("": none)
+};
+
+/// MakeNamedMedium "name" "string type" ...: `type` is the "type" parameter's value.
+struct MediumDesc : EntityDesc {
+    std::string name;
+    Transform world_from_medium;  ///< CTM at the directive
+};
+
+/// The MediumInterface in effect at a Shape directive (names of MakeNamedMedium; "" =
+/// vacuum), with where it was given.
+struct MediumNames {
+    std::string inside, outside;
+    SourceLoc loc;
 };
 
 /// A reference to a material: an anonymous one by index, or a named one by name (resolved
@@ -68,6 +82,7 @@ struct ShapeDesc : EntityDesc {
     bool reverse_orientation = false;
     MaterialRef material;
     int area_light = -1;  ///< into SceneDesc::area_lights, or -1
+    MediumNames media;
 };
 
 /// ObjectBegin ... ObjectEnd: the shapes of an object, each with the full CTM that was in
@@ -115,6 +130,7 @@ struct SceneDesc {
     std::map<std::string, InstanceDefinition> instances;
     std::vector<InstanceUse> instance_uses;
     std::vector<MeterDesc> meters;
+    std::vector<MediumDesc> media;  ///< in the order of their MakeNamedMedium directives
 
     /// Directory of the main scene file: relative file names in parameters resolve here.
     std::string base_dir;

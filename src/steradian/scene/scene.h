@@ -13,6 +13,7 @@
 #include "steradian/lights/light.h"
 #include "steradian/lights/light_sampler.h"
 #include "steradian/material/material.h"
+#include "steradian/media/medium.h"
 #include "steradian/sensors/meter.h"
 
 namespace sr {
@@ -44,6 +45,9 @@ struct IntegratorSettings {
     LightStrategy strategy = LightStrategy::Mis;
     bool regularize = false;
     std::string light_sampler = "power";
+    /// "volpath" in a scene with media: paths are traced through them (integrators/path/
+    /// volpath.cpp); otherwise media are ignored.
+    bool volumetric = false;
 };
 
 class Scene {
@@ -64,6 +68,8 @@ public:
     std::vector<int> infinite_lights;  ///< lights with radiance at infinity (escaping rays)
     LightSampler light_sampler;
     std::vector<Meter> meters;  ///< Meter directives (docs/photometry.md)
+    std::vector<Medium> media;  ///< MakeNamedMedium, referred to by index
+    int camera_medium = -1;     ///< the medium camera rays start in (-1: vacuum)
 
     std::unique_ptr<Camera> camera;
     /// Some texture filters by the footprint of a pixel (mip-mapped images, checkerboards,

@@ -2,6 +2,7 @@
 
 #include <climits>
 
+#include "steradian/integrators/path/volpath.h"
 #include "steradian/scene/scene.h"
 
 namespace sr {
@@ -235,6 +236,13 @@ private:
 
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
                         PathCounters& counters, const PathLimits& limits) {
+    if (scene.integrator.volumetric) {
+        // (The builder refuses meters, the other users of limits, in scenes with media.)
+        SurfaceHit hit;
+        ++counters.rays;
+        bool found = scene.intersect(ray, hit);
+        return volpath_li(scene, ray, scene.camera_medium, found, hit, lambda, sampler, counters);
+    }
     PathState path(scene, lambda, sampler, counters, limits);
     path.trace(ray);
     return path.L;
@@ -244,8 +252,12 @@ SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, Sur
                              SampledWavelengths& lambda, Sampler& sampler,
                              PathCounters& counters, DeferredShadowRay* first_shadow,
                              Float footprint_scale) {
-    PathState path(scene, lambda, sampler, counters, PathLimits{});
     if (first_shadow) first_shadow->pending = false;
+    if (scene.integrator.volumetric) {
+        ++counters.rays;
+        return volpath_li(scene, ray, scene.camera_medium, found, hit, lambda, sampler, counters);
+    }
+    PathState path(scene, lambda, sampler, counters, PathLimits{});
     path.defer_first_shadow(first_shadow);
     path.use_footprints(footprint_scale);
     ++counters.rays;

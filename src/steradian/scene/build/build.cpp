@@ -10,6 +10,7 @@ namespace build_detail {
 
 Scene Builder::build() {
     build_options_block();
+    build_media();
     build_textures();
     build_materials();
     for (const ShapeDesc& s : m_d.shapes) recorded([&] { add_shape(s, nullptr); });

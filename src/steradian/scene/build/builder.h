@@ -176,6 +176,11 @@ class Builder {
         }
     }
 
+    // ---- media (media.cpp) -------------------------------------------------------------
+    void build_media();
+    /// The index of the named medium ("" = vacuum: -1); an error at `loc` if undefined.
+    int medium_index(const std::string& name, const SourceLoc& loc) const;
+
   public:
     // ---- lights (lights.cpp) -----------------------------------------------------------
     void build_lights(Scene& s);
@@ -201,6 +206,8 @@ class Builder {
     int m_default_material = -1;
     std::vector<std::pair<int, int>> m_pending_area;  ///< (shape, area light desc)
     std::map<size_t, Luminaire> m_luminaires;         ///< by index into SceneDesc::lights
+    std::map<std::string, int> m_medium_index;        ///< MakeNamedMedium name -> Scene::media
+    bool m_volpath = false;                           ///< Integrator "volpath" (the default)
 };
 
 }  // namespace sr::build_detail

@@ -221,9 +221,7 @@ void Builder::build_integrator(const EntityDesc& e) {
     const ParamSet& ps = e.params;
     IntegratorSettings is;
     if (type == "path" || type == "volpath") {
-        if (type == "volpath" && !e.type.empty())
-            warning(e.loc,
-                    "Integrator \"volpath\" is rendered by \"path\" (no participating media)");
+        m_volpath = type == "volpath";
         is.max_depth = ps.get_int("maxdepth", 5);
         is.regularize = ps.get_bool("regularize", false);
         if (is.regularize) throw_unsupported(e.loc, "\"regularize\" is not supported yet");

@@ -273,6 +273,9 @@ void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
     e.geometry = std::move(*geom);
     e.material = resolve_material(s.material);
     e.alpha = alpha_mask(s);
+    const SourceLoc& mloc = s.media.loc.line > 0 ? s.media.loc : s.loc;
+    e.medium_inside = medium_index(s.media.inside, mloc);
+    e.medium_outside = medium_index(s.media.outside, mloc);
     int index = int(m_s.shapes.size());
     if (s.area_light >= 0 && std::holds_alternative<Cylinder>(e.geometry))
         throw_unsupported(s.loc, "an emitting cylinder (area light) is not supported yet");

@@ -15,6 +15,7 @@ struct GraphicsState {
     bool reverse_orientation = false;
     MaterialRef material;
     int area_light = -1;
+    MediumNames media;  ///< MediumInterface
     std::vector<Param> shape_attrs, light_attrs, material_attrs, medium_attrs, texture_attrs;
 };
 

@@ -34,7 +34,7 @@
 //   scope (a later Attribute overrides an earlier one of the same name; the entity's own
 //   parameters override both). Merged copies are marked used, as pbrt-v4 lets them go
 //   unused. "light" applies to LightSource and AreaLightSource, "material" to Material
-//   and MakeNamedMaterial; "medium" is accepted and has no effect (media are ignored).
+//   and MakeNamedMaterial, "medium" to MakeNamedMedium.
 // - Include is textual (shared graphics state) and token-transparent: the included file's
 //   tokens are spliced into the including file's stream (pbrt-v4's file stack), so a
 //   parameter list at the end of an included file continues after the Include. Import parses the
@@ -216,6 +216,35 @@ void Parser::make_named_material(Stream& s, const SourceLoc& loc) {
     m_scene.materials.push_back(std::move(m));
 }
 
+void Parser::make_named_medium(Stream& s, const SourceLoc& loc) {
+    std::string name(s.expect_string("MakeNamedMedium").text);
+    std::vector<Param> params = parse_params(s);
+    for (const MediumDesc& m : m_scene.media)
+        if (m.name == name)
+            throw_error(loc, "named medium \"{}\" redefined (first defined at {})", name,
+                        m.loc.to_string());
+    // The "string type" parameter names the medium type; it is consumed here.
+    const Param* type = nullptr;
+    for (const Param& p : params)
+        if (p.name == "type") type = &p;
+    if (!type)
+        for (const Param& p : m_gs.medium_attrs)
+            if (p.name == "type") type = &p;
+    if (!type) throw_error(loc, "MakeNamedMedium \"{}\": missing \"string type\" parameter", name);
+    if (type->type != ParamType::String || type->strings.size() != 1)
+        throw_error(type->loc,
+                    "MakeNamedMedium \"{}\": \"type\" must be a single string, e.g. \"string "
+                    "type\" \"homogeneous\"",
+                    name);
+    MediumDesc m;
+    m.type = type->strings[0];
+    m.params = make_params(std::move(params), &m_gs.medium_attrs, "type");
+    m.loc = loc;
+    m.name = std::move(name);
+    m.world_from_medium = m_gs.ctm;
+    m_scene.media.push_back(std::move(m));
+}
+
 void Parser::shape(Stream& s, const SourceLoc& loc) {
     require_world("Shape", loc);
     auto [type, params] = parse_entity(s, "Shape");
@@ -227,6 +256,7 @@ void Parser::shape(Stream& s, const SourceLoc& loc) {
     sh.reverse_orientation = m_gs.reverse_orientation;
     sh.material = m_gs.material;
     sh.area_light = m_gs.area_light;
+    sh.media = m_gs.media;
     if (!m_object) {
         m_scene.shapes.push_back(std::move(sh));
         return;
@@ -387,6 +417,7 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 c.loc = loc;
                 c.camera_from_world = m_gs.ctm;
                 c.world_from_camera = m_gs.ctm.inverse();
+                c.medium = m_gs.media.outside;
                 m_coordsys["camera"] = c.world_from_camera;
                 m_scene.camera = std::move(c);
                 break;
@@ -541,14 +572,10 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 break;
             }
 
-            // -- media: parsed and ignored
-            case Dir::MakeNamedMedium: {
-                auto [name, params] = parse_entity(s, "MakeNamedMedium");
-                warning(loc, fmt::format("participating media are not supported; "
-                                         "MakeNamedMedium \"{}\" is ignored",
-                                         name));
+            // -- media
+            case Dir::MakeNamedMedium:
+                make_named_medium(s, loc);
                 break;
-            }
             case Dir::MediumInterface: {
                 std::string inside(s.expect_string("MediumInterface").text), outside = inside;
                 Token t;
@@ -558,10 +585,7 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                     else
                         s.unget(t);
                 }
-                if (!inside.empty() || !outside.empty())
-                    warning(loc,
-                            "participating media are not supported; MediumInterface is "
-                            "ignored");
+                m_gs.media = MediumNames{std::move(inside), std::move(outside), loc};
                 break;
             }
 

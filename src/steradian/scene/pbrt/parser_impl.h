@@ -74,6 +74,7 @@ class Parser {
     void texture(Stream& s, const SourceLoc& loc);
     void make_named_material(Stream& s, const SourceLoc& loc);
     void shape(Stream& s, const SourceLoc& loc);
+    void make_named_medium(Stream& s, const SourceLoc& loc);
     void option(Stream& s);
     void active_transform(Stream& s, const SourceLoc& loc);
     std::string resolve(const std::string& name, const std::string& dir, std::string_view what,

@@ -419,15 +419,46 @@ Shape "sphere"
     EXPECT_EQ(s.materials[0].type, "diffuse");
 }
 
-TEST_F(PbrtParser, MediaAreParsedAndIgnored) {
-    SceneDesc s = parse(R"(MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [1 1 1]
-MediumInterface "" ""
-WorldBegin
-MediumInterface "fog"
+TEST_F(PbrtParser, MediaAndMediumInterfacesAreRecorded) {
+    SceneDesc s = parse(R"(Translate 1 2 3
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [1 1 1]
 MediumInterface "" "fog"
+Camera "perspective"
+WorldBegin
+AttributeBegin
+MediumInterface "fog"
+Shape "sphere"
+MediumInterface "fog" ""
+Shape "sphere"
+AttributeEnd
 Shape "sphere"
 )");
-    EXPECT_EQ(s.shapes.size(), 1u);
+    ASSERT_EQ(s.media.size(), 1u);
+    EXPECT_EQ(s.media[0].name, "fog");
+    EXPECT_EQ(s.media[0].type, "homogeneous");
+    EXPECT_EQ(s.media[0].world_from_medium.point(Point3(0, 0, 0)), Point3(1, 2, 3));
+    EXPECT_EQ(s.camera.medium, "fog");  // the outside medium at Camera
+    ASSERT_EQ(s.shapes.size(), 3u);
+    // One name: both sides (pbrt-v4).
+    EXPECT_EQ(s.shapes[0].media.inside, "fog");
+    EXPECT_EQ(s.shapes[0].media.outside, "fog");
+    EXPECT_EQ(s.shapes[1].media.inside, "fog");
+    EXPECT_EQ(s.shapes[1].media.outside, "");
+    // AttributeEnd restores the interface in effect before it ("" "fog", from the options).
+    EXPECT_EQ(s.shapes[2].media.inside, "");
+    EXPECT_EQ(s.shapes[2].media.outside, "fog");
+}
+
+TEST_F(PbrtParser, MediumErrorsAreLocated) {
+    expect_error(R"(WorldBegin
+MakeNamedMedium "fog" "rgb sigma_a" [1 1 1]
+)",
+                 "missing \"string type\"", 2, 1);
+    expect_error(R"(WorldBegin
+MakeNamedMedium "fog" "string type" "homogeneous"
+MakeNamedMedium "fog" "string type" "homogeneous"
+)",
+                 "redefined", 3, 1);
 }
 
 TEST_F(PbrtParser, MotionBlurKeepsTheStartTransform) {

@@ -1,0 +1,361 @@
+#include "steradian/integrators/path/volpath.h"
+
+#include <climits>
+
+#include "steradian/media/medium.h"
+#include "steradian/sampling/hash.h"
+#include "steradian/sampling/rng.h"
+#include "steradian/scene/scene.h"
+
+namespace sr {
+
+namespace {
+
+/// The random-number stream of a tracking loop, keyed by two sample values (or a shadow ray's
+/// origin and direction), so the number of collisions does not shift the sampler's dimensions.
+Pcg32 tracking_rng(uint64_t a, uint64_t b) { return Pcg32(hash(a), hash(b)); }
+
+/// The path's state. All weights follow pbrt-v4's volpath formulation: beta is the
+/// throughput divided by the hero wavelength's path pdf, and r_u, r_l are the ratios of every
+/// wavelength's unidirectional (and light-sampling) path pdf to the hero wavelength's; a
+/// contribution divided by the average of r_u (+ r_l) is then the one-sample MIS estimate over
+/// the four wavelengths and the two strategies (Miller, Georgiev and Jarosz 2019).
+class VolPath {
+  public:
+    VolPath(const Scene& scene, SampledWavelengths& lambda, Sampler& sampler,
+            PathCounters& counters)
+        : m_scene(scene),
+          m_lambda(lambda),
+          m_sampler(sampler),
+          m_counters(counters),
+          m_max_depth(scene.integrator.max_depth),
+          m_mctx(scene.material_context()) {}
+
+    SampledSpectrum L{0};
+
+    void trace(Ray ray, int medium, bool found, SurfaceHit& hit) {
+        int crossings = 0;
+        while (true) {
+            if (medium >= 0) {
+                m_current_medium = medium;
+                bool scattered = false, terminated = false;
+                Float t_max = found ? hit.t : kInfinity;
+                const uint64_t h0 = uint64_t(m_sampler.get_1d() * 0x1p32f);
+                const uint64_t h1 = uint64_t(m_sampler.get_1d() * 0x1p32f);
+                Pcg32 rng = tracking_rng(h0, h1);
+                const Float u = m_sampler.get_1d();
+                const Vec3 wo = -normalize(ray.d);
+                Ray next;
+                SampledSpectrum t_maj =
+                    sample_t_maj(m_scene.media[size_t(medium)], ray, t_max, u, rng, m_lambda,
+                                 [&](Point3 p, const MediumProperties& mp,
+                                     SampledSpectrum sigma_maj, SampledSpectrum tm) {
+                                     return collision(p, mp, sigma_maj, tm, wo, rng, scattered,
+                                                      terminated, next);
+                                 });
+                if (terminated || m_beta.is_zero() || m_r_u.is_zero()) return;
+                if (scattered) {
+                    ray = next;
+                    ++m_counters.rays;
+                    found = m_scene.intersect(ray, hit);
+                    continue;
+                }
+                m_beta *= t_maj / t_maj[0];
+                m_r_u *= t_maj / t_maj[0];
+                m_r_l *= t_maj / t_maj[0];
+                if (m_beta.has_nonfinite() || m_r_u.has_nonfinite()) return;
+            }
+            if (!found) {
+                escaped(ray);
+                return;
+            }
+            if (hit.light >= 0) emitted(hit);
+            std::optional<Bsdf> bsdf =
+                hit.material >= 0
+                    ? make_bsdf(m_scene.materials[hit.material], m_mctx, hit, m_lambda)
+                    : std::nullopt;
+            if (!bsdf) {
+                // An interface: the ray goes on, into the medium on the far side.
+                if (++crossings > 256) return;
+                medium = medium_after(hit, ray.d, medium);
+                ray = spawn_ray(hit, ray.d);
+                ++m_counters.rays;
+                found = m_scene.intersect(ray, hit);
+                continue;
+            }
+            if (m_depth++ >= m_max_depth) return;
+            if (bsdf->has_non_specular() && !m_scene.light_sampler.empty()) {
+                SurfaceVertex v{&hit, &*bsdf};
+                L += sample_light(v, medium);
+            } else {
+                m_sampler.skip_1d();
+                m_sampler.skip_2d();
+            }
+            m_prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
+            Float uc = m_sampler.get_1d();
+            Point2 u2 = m_sampler.get_2d();
+            auto bs = bsdf->sample(hit.wo, uc, u2);
+            if (!bs || !(bs->pdf_sa > 0)) return;
+            m_beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
+            m_r_l = m_r_u / bs->pdf_sa;
+            m_specular_bounce = bs->is_specular();
+            if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
+            medium = medium_after(hit, bs->wi, medium);
+            ray = spawn_ray(hit, bs->wi);
+            if (m_beta.is_zero()) return;
+            if (!russian_roulette()) return;
+            ++m_counters.rays;
+            found = m_scene.intersect(ray, hit);
+        }
+    }
+
+  private:
+    /// A surface scattering vertex for sample_light (null bsdf: a medium vertex).
+    struct SurfaceVertex {
+        const SurfaceHit* hit = nullptr;
+        const Bsdf* bsdf = nullptr;
+    };
+
+    /// The medium a ray leaving `hit` in direction w is in: the MediumInterface side w points
+    /// to if the surface is a transition, else the medium the path was in.
+    int medium_after(const SurfaceHit& hit, Vec3 w, int current) const {
+        const ShapeEntry& e = m_scene.shapes[size_t(hit.shape)];
+        if (!e.medium_transition()) return current;
+        return dot(w, hit.ng) > 0 ? e.medium_outside : e.medium_inside;
+    }
+
+    /// A tentative collision of delta tracking: absorption, real scattering or null
+    /// scattering, chosen with the hero wavelength's probabilities.
+    bool collision(Point3 p, const MediumProperties& mp, SampledSpectrum sigma_maj,
+                   SampledSpectrum t_maj, Vec3 wo, Pcg32& rng, bool& scattered, bool& terminated,
+                   Ray& next) {
+        if (m_beta.is_zero()) {
+            terminated = true;
+            return false;
+        }
+        // Emission of the medium (absorption-weighted), at every tentative collision.
+        if (m_depth < m_max_depth && !mp.le.is_zero()) {
+            Float pdf = sigma_maj[0] * t_maj[0];
+            SampledSpectrum betap = m_beta * t_maj / pdf;
+            SampledSpectrum r_e = m_r_u * sigma_maj * t_maj / pdf;
+            if (!r_e.is_zero()) L += betap * mp.sigma_a * mp.le / r_e.average();
+        }
+        const Float p_absorb = mp.sigma_a[0] / sigma_maj[0];
+        const Float p_scatter = mp.sigma_s[0] / sigma_maj[0];
+        const Float um = rng.next_float();
+        if (um < p_absorb) {
+            terminated = true;
+            return false;
+        }
+        if (um < p_absorb + p_scatter) {
+            if (m_depth++ >= m_max_depth) {
+                terminated = true;
+                return false;
+            }
+            Float pdf = t_maj[0] * mp.sigma_s[0];
+            m_beta *= t_maj * mp.sigma_s / pdf;
+            m_r_u *= t_maj * mp.sigma_s / pdf;
+            if (m_beta.is_zero() || m_r_u.is_zero()) {
+                terminated = true;
+                return false;
+            }
+            m_medium_g = mp.g;
+            m_medium_p = p;
+            m_medium_wo = wo;
+            L += sample_light(SurfaceVertex{}, m_current_medium);
+            PhaseSample ps = sample_hg(wo, mp.g, m_sampler.get_2d());
+            if (!(ps.p > 0)) {
+                terminated = true;
+                return false;
+            }
+            // The phase function is sampled exactly: beta is unchanged (p / pdf = 1).
+            m_r_l = m_r_u / ps.p;
+            m_prev_ctx = LightSampleContext{p, Vec3(0, 0, 0), Normal3(0, 0, 0)};
+            m_specular_bounce = false;
+            scattered = true;
+            next = Ray{p, ps.wi, kInfinity};
+            return false;
+        }
+        // Null scattering: continue along the ray.
+        SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
+        for (int i = 0; i < kSpectrumSamples; ++i) sigma_n[i] = std::max(sigma_n[i], Float(0));
+        Float pdf = t_maj[0] * sigma_n[0];
+        if (!(pdf > 0)) {
+            m_beta = SampledSpectrum(0);
+            return false;
+        }
+        m_beta *= t_maj * sigma_n / pdf;
+        m_r_u *= t_maj * sigma_n / pdf;
+        m_r_l *= t_maj * sigma_maj / pdf;
+        return !m_beta.is_zero() && !m_r_u.is_zero();
+    }
+
+    bool russian_roulette() {
+        SampledSpectrum rr = m_beta * m_eta_scale / m_r_u.average();
+        Float u = m_sampler.get_1d();
+        Float m = rr.max_value();
+        if (m < 1 && m_depth > 1) {
+            Float q = std::max(Float(0), 1 - m);
+            if (u < q) return false;
+            m_beta /= 1 - q;
+        }
+        return true;
+    }
+
+    void escaped(const Ray& ray) {
+        const Vec3 d = normalize(ray.d);
+        const bool mis = !(m_depth == 0 || m_specular_bounce);
+        for (int li : m_scene.infinite_lights) {
+            Float pdf = 0;
+            SampledSpectrum le =
+                infinite_le(m_scene.lights[size_t(li)], Ray{ray.o, d, kInfinity}, m_lambda,
+                            mis ? &pdf : nullptr, true);
+            if (le.is_zero()) continue;
+            if (!mis) {
+                L += m_beta * le / m_r_u.average();
+            } else {
+                SampledSpectrum r_l = m_r_l * (m_scene.light_sampler.pmf(li) * pdf);
+                L += m_beta * le / (m_r_u + r_l).average();
+            }
+        }
+    }
+
+    void emitted(const SurfaceHit& hit) {
+        const auto& area = std::get<DiffuseAreaLight>(m_scene.lights[size_t(hit.light)]);
+        SampledSpectrum le = area.l(hit.ng, hit.wo, m_lambda);
+        if (le.is_zero()) return;
+        if (m_depth == 0 || m_specular_bounce) {
+            L += m_beta * le / m_r_u.average();
+            return;
+        }
+        Float p_l =
+            m_scene.light_sampler.pmf(hit.light) * area.pdf_li_point(m_prev_ctx, hit.p, hit.ng);
+        SampledSpectrum r_l = m_r_l * p_l;
+        L += m_beta * le / (m_r_u + r_l).average();
+    }
+
+    /// Next-event estimation from a surface vertex (v.hit, v.bsdf) or from the medium vertex
+    /// m_medium_p (v.hit null), with the transmittance of the shadow ray through interfaces
+    /// and media by ratio tracking.
+    SampledSpectrum sample_light(const SurfaceVertex& v, int medium) {
+        const Float u_light = m_sampler.get_1d();
+        const Point2 u2 = m_sampler.get_2d();
+        Float pmf;
+        int li = m_scene.light_sampler.sample(u_light, pmf);
+        if (li < 0 || pmf <= 0) return SampledSpectrum(0);
+        const LightSampleContext ctx =
+            v.hit ? LightSampleContext{v.hit->p, v.hit->p_error, v.hit->ng}
+                  : LightSampleContext{m_medium_p, Vec3(0, 0, 0), Normal3(0, 0, 0)};
+        auto ls = sample_li(m_scene.lights[size_t(li)], ctx, u2, m_lambda, true);
+        if (!ls || !(ls->pdf_sa > 0) || ls->L.is_zero()) return SampledSpectrum(0);
+        SampledSpectrum f_hat;
+        Float scatter_pdf;
+        Ray shadow;
+        int shadow_medium = medium;
+        if (v.hit) {
+            Bsdf::Eval ev = v.bsdf->evaluate(v.hit->wo, ls->wi);
+            f_hat = ev.f * ev.abs_cos;
+            scatter_pdf = ev.pdf_sa;
+            if (f_hat.is_zero()) return SampledSpectrum(0);
+            shadow_medium = medium_after(*v.hit, ls->wi, medium);
+            if (ls->at_infinity)
+                shadow = spawn_ray(*v.hit, ls->wi);
+            else if (ls->delta)
+                shadow = spawn_ray_to(*v.hit, ls->p_light);
+            else
+                shadow = spawn_ray_between(*v.hit, ls->p_light, ls->p_error, ls->n_light);
+        } else {
+            Float p = hg_phase(dot(m_medium_wo, ls->wi), m_medium_g);
+            f_hat = SampledSpectrum(p);
+            scatter_pdf = p;
+            shadow = ls->at_infinity ? Ray{m_medium_p, ls->wi, kInfinity}
+                                     : Ray{m_medium_p, ls->p_light - m_medium_p, 1 - Float(1e-4)};
+        }
+        SampledSpectrum r_l(1), r_u(1);
+        SampledSpectrum tr = transmittance(shadow, shadow_medium, !ls->at_infinity, r_l, r_u);
+        if (tr.is_zero()) return SampledSpectrum(0);
+        r_l *= m_r_u * (pmf * ls->pdf_sa);
+        r_u *= m_r_u * scatter_pdf;
+        SampledSpectrum c = m_beta * f_hat * tr * ls->L;
+        return ls->delta ? c / r_l.average() : c / (r_l + r_u).average();
+    }
+
+    /// Transmittance along a shadow ray that starts in `medium`: zero if a surface with a
+    /// material blocks it, else the product over its segments of ratio-tracking estimates
+    /// (with the rescaled probabilities r_l, r_u of the segments' null collisions).
+    SampledSpectrum transmittance(Ray ray, int medium, bool to_point, SampledSpectrum& r_l,
+                                  SampledSpectrum& r_u) {
+        const Point3 end = ray.o + ray.d;  // the target of a ray to a point (t_max < 1)
+        SampledSpectrum t_ray(1);
+        Pcg32 rng = tracking_rng(hash(ray.o.x, ray.o.y, ray.o.z), hash(ray.d.x, ray.d.y, ray.d.z));
+        SurfaceHit h;
+        for (int crossings = 0; crossings <= 256; ++crossings) {
+            ++m_counters.rays;
+            const bool found = m_scene.intersect(ray, h);
+            if (found && h.material >= 0) return SampledSpectrum(0);
+            if (medium >= 0) {
+                Float t_max = found ? h.t : ray.t_max;
+                SampledSpectrum t_maj = sample_t_maj(
+                    m_scene.media[size_t(medium)], ray, t_max, rng.next_float(), rng, m_lambda,
+                    [&](Point3, const MediumProperties& mp, SampledSpectrum sigma_maj,
+                        SampledSpectrum tm) {
+                        SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
+                        for (int i = 0; i < kSpectrumSamples; ++i)
+                            sigma_n[i] = std::max(sigma_n[i], Float(0));
+                        Float pdf = tm[0] * sigma_maj[0];
+                        t_ray *= tm * sigma_n / pdf;
+                        r_l *= tm * sigma_maj / pdf;
+                        r_u *= tm * sigma_n / pdf;
+                        // Russian roulette on low transmittance (unbiased).
+                        SampledSpectrum tr = t_ray / (r_l + r_u).average();
+                        if (tr.max_value() < Float(0.05)) {
+                            if (rng.next_float() < Float(0.75))
+                                t_ray = SampledSpectrum(0);
+                            else
+                                t_ray /= Float(0.25);
+                        }
+                        return !t_ray.is_zero();
+                    });
+                t_ray *= t_maj / t_maj[0];
+                r_l *= t_maj / t_maj[0];
+                r_u *= t_maj / t_maj[0];
+                if (t_ray.has_nonfinite()) return SampledSpectrum(0);
+            }
+            if (t_ray.is_zero()) return SampledSpectrum(0);
+            if (!found) return t_ray;
+            medium = medium_after(h, ray.d, medium);
+            ray = to_point ? spawn_ray_to(h, end) : spawn_ray(h, ray.d);
+        }
+        return SampledSpectrum(0);
+    }
+
+    const Scene& m_scene;
+    SampledWavelengths& m_lambda;
+    Sampler& m_sampler;
+    PathCounters& m_counters;
+    const int m_max_depth;
+    const MaterialContext m_mctx;
+
+    SampledSpectrum m_beta{1}, m_r_u{1}, m_r_l{1};
+    bool m_specular_bounce = false;
+    Float m_eta_scale = 1;
+    LightSampleContext m_prev_ctx;
+    int m_depth = 0;
+    // The medium vertex being scattered at (collision() to sample_light()).
+    int m_current_medium = -1;
+    Point3 m_medium_p;
+    Vec3 m_medium_wo;
+    Float m_medium_g = 0;
+};
+
+}  // namespace
+
+SampledSpectrum volpath_li(const Scene& scene, const Ray& ray, int medium, bool found,
+                           SurfaceHit& hit, SampledWavelengths& lambda, Sampler& sampler,
+                           PathCounters& counters) {
+    VolPath path(scene, lambda, sampler, counters);
+    path.trace(ray, medium, found, hit);
+    return path.L;
+}
+
+}  // namespace sr

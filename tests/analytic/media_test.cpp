@@ -1,0 +1,215 @@
+// Participating media through the whole pipeline (parser, builder, volpath kernel), against
+// closed forms of radiative transfer: Beer-Lambert attenuation, energy conservation of an
+// albedo-1 medium in a white furnace, the single-scattering radiance of a thin slab, and a
+// constant-density grid against the homogeneous medium it equals.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "support/render_util.h"
+
+namespace sr::test {
+namespace {
+
+constexpr double kZ = 4.5;  // tolerance in standard errors
+
+std::string flat(double v) { return fmt::format("[ 300 {} 900 {} ]", v, v); }
+
+/// A closed box [lo, hi] as a triangle mesh whose normals point outwards (pbrt-v4's
+/// convention: n = (p1 - p0) x (p2 - p0)), so that its MediumInterface "inside" is the box.
+std::string box(double x0, double y0, double z0, double x1, double y1, double z1) {
+    return fmt::format(
+        R"(Shape "trianglemesh" "point3 P" [ {0} {1} {2}  {3} {1} {2}  {3} {4} {2}  {0} {4} {2}
+    {0} {1} {5}  {3} {1} {5}  {3} {4} {5}  {0} {4} {5} ]
+  "integer indices" [ 0 2 1  0 3 2  4 5 6  4 6 7  0 1 5  0 5 4  1 2 6  1 6 5  2 3 7  2 7 6  3 0 4  3 4 7 ])",
+        x0, y0, z0, x1, y1, z1);
+}
+
+/// An orthographic camera looking down -z at [-1, 1]^2, 16 x 16 pixels.
+std::string ortho_header(int spp, int max_depth, const std::string& integrator = "volpath") {
+    return fmt::format(R"(
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
+Sampler "independent" "integer pixelsamples" [ {} ]
+Integrator "{}" "integer maxdepth" [ {} ]
+PixelFilter "box"
+WorldBegin
+)",
+                       spp, integrator, max_depth);
+}
+
+// A purely absorbing slab of thickness d in front of an emitter of luminance 1: every pixel
+// sees exp(-sigma_a d) (Beer-Lambert), whatever the slab's sides do elsewhere.
+TEST(Media, BeerLambertThroughAnAbsorbingSlab) {
+    const double sigma_a = 0.8, d = 1.5;
+    std::string scene =
+        ortho_header(64, 5) + fmt::format(R"(
+MakeNamedMedium "slab" "string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {}
+AttributeBegin
+  MediumInterface "slab" ""
+  Material "interface"
+  {}
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "spectrum L" {}
+  Translate 0 0 -3
+  Shape "trianglemesh" "point3 P" [ -5 -5 0  5 -5 0  5 5 0  -5 5 0 ] "integer indices" [ 0 1 2  0 2 3 ]
+AttributeEnd
+)",
+                                          flat(sigma_a), flat(0), box(-3, -3, -d / 2, 3, 3, d / 2),
+                                          flat(1));
+    Rendered r = render_string(scene);
+    MeanSe m = mean_se(r.y);
+    const double expected = std::exp(-sigma_a * d);
+    EXPECT_NEAR(m.mean, expected, kZ * m.se) << "se " << m.se;
+    EXPECT_GT(m.se, 0);  // the estimate is stochastic (delta tracking): the test can fail
+    EXPECT_EQ(r.stats.nonfinite, 0u);
+
+    // With "path", media are ignored (pbrt-v4's PathIntegrator): the emitter's luminance 1.
+    std::string path_scene = scene;
+    path_scene.replace(path_scene.find("\"volpath\""), 9, "\"path\"");
+    MeanSe p = mean_se(render_string(path_scene).y);
+    EXPECT_NEAR(p.mean, 1.0, 1e-3);
+}
+
+// An albedo-1 medium (sigma_a = 0) inside a sphere under a uniform environment of radiance 1:
+// radiance is conserved along every path, so every pixel is 1 (any g, any density).
+TEST(Media, AlbedoOneMediumInAWhiteFurnaceConservesEnergy) {
+    for (double g : {0.0, 0.7}) {
+        std::string scene = fmt::format(R"(
+LookAt 0 0 -4  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 30 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
+Sampler "independent" "integer pixelsamples" [ 32 ]
+Integrator "volpath" "integer maxdepth" [ 100000 ]
+PixelFilter "box"
+WorldBegin
+LightSource "infinite" "spectrum L" {}
+MakeNamedMedium "cloud" "string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {}
+  "float g" [ {} ]
+MediumInterface "cloud" ""
+Material "interface"
+Shape "sphere" "float radius" [ 1 ]
+)",
+                                        flat(1), flat(0), flat(3), g);
+        Rendered r = render_string(scene);
+        // The sphere covers the pixels [4, 12)^2; its optical radius is 3.
+        MeanSe c = mean_se(region(r, 5, 5, 11, 11));
+        EXPECT_NEAR(c.mean, 1.0, std::max(kZ * c.se, 1e-4)) << "g " << g << " se " << c.se;
+        MeanSe m = mean_se(r.y);
+        EXPECT_NEAR(m.mean, 1.0, std::max(kZ * m.se, 1e-4)) << "g " << g;
+        EXPECT_EQ(r.stats.nonfinite, 0u);
+    }
+}
+
+// Single scattering in a slab z in [-d, 0] lit from +z by a distant light of perpendicular
+// illuminance E, seen straight from above (maxdepth 1: one scattering event). Light reaching
+// depth z is E exp(-sigma_t z); scattered back towards the camera (wo = wi, the
+// Henyey-Greenstein value p(1) = (1 - g^2) / (4 pi (1 + g)^3)) and attenuated on the way up:
+//   L = int_0^d sigma_s p E exp(-2 sigma_t z) dz = sigma_s p E (1 - exp(-2 sigma_t d)) / (2
+//   sigma_t).
+TEST(Media, SingleScatteringOfASlabMatchesTheClosedForm) {
+    const double sigma_a = 0.3, sigma_s = 1.2, d = 0.5, g = 0.4, E = 10;
+    std::string scene = ortho_header(128, 1) + fmt::format(R"(
+LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ {} ]
+MakeNamedMedium "slab" "string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {}
+  "float g" [ {} ]
+MediumInterface "slab" ""
+Material "interface"
+{}
+)",
+                                                           E, flat(sigma_a), flat(sigma_s), g,
+                                                           box(-50, -50, -d, 50, 50, 0));
+    Rendered r = render_string(scene);
+    MeanSe m = mean_se(r.y);
+    const double st = sigma_a + sigma_s;
+    const double p = (1 - g * g) / (4 * M_PI * std::pow(1 + g, 3));
+    const double expected = sigma_s * p * E * (1 - std::exp(-2 * st * d)) / (2 * st);
+    EXPECT_NEAR(m.mean, expected, kZ * m.se) << "se " << m.se << " expected " << expected;
+    EXPECT_LT(m.se, 0.02 * expected);  // precise enough to tell g = 0.4 from isotropic
+}
+
+// A "uniformgrid" of constant density c over a box much larger than the view equals the
+// homogeneous medium with sigma scaled by c, away from the grid's boundary (where pbrt-v4's
+// interpolation falls to zero over half a cell): the same slab scene both ways.
+TEST(Media, ConstantDensityGridEqualsTheHomogeneousMedium) {
+    const double d = 0.5, c = 2.0;
+    auto scene = [&](const std::string& medium) {
+        return ortho_header(128, 20) + fmt::format(R"(
+LightSource "distant" "point3 from" [ 0.3 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
+MakeNamedMedium "slab" {}
+MediumInterface "slab" ""
+Material "interface"
+{}
+)",
+                                                   medium, box(-5, -5, -d, 5, 5, 0));
+    };
+    // The grid: 4 x 4 x 4 nodes over [-20, 20]^2 x [-2, 2]: its interior holds the slab.
+    std::string density = "[";
+    for (int i = 0; i < 64; ++i) density += fmt::format(" {}", c);
+    density += " ]";
+    Rendered grid = render_string(scene(fmt::format(
+        R"("string type" "uniformgrid" "integer nx" [ 4 ] "integer ny" [ 4 ] "integer nz" [ 4 ]
+  "float density" {} "point3 p0" [ -20 -20 -2 ] "point3 p1" [ 20 20 2 ]
+  "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
+        density, flat(0.2), flat(0.6))));
+    Rendered homo = render_string(scene(fmt::format(
+        R"("string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
+        flat(0.2 * c), flat(0.6 * c))));
+    MeanSe a = mean_se(grid.y), b = mean_se(homo.y);
+    EXPECT_GT(b.mean, 0.01);
+    EXPECT_NEAR(a.mean, b.mean, kZ * std::hypot(a.se, b.se)) << a.se << " " << b.se;
+}
+
+// Delta and ratio tracking draw their collisions from streams keyed by the sampler's values
+// (and the shadow ray), so a scene with media renders the same bits on any number of threads.
+TEST(Media, SameImageOnOneAndTwoThreads) {
+    std::string scene = ortho_header(8, 20) + fmt::format(R"(
+LightSource "distant" "point3 from" [ 0.3 0.2 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
+MakeNamedMedium "slab" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.4 0.9 ]
+  "rgb sigma_s" [ 1.5 1 0.5 ] "float g" [ 0.3 ]
+MediumInterface "slab" ""
+Material "interface"
+{}
+MediumInterface "" ""
+Material "diffuse"
+Shape "sphere" "float radius" [ 0.3 ]
+)",
+                                                          box(-5, -5, -1, 5, 5, 0));
+    Rendered a = render_string(scene, 1), b = render_string(scene, 2);
+    ASSERT_EQ(a.rgb.data.size(), b.rgb.data.size());
+    EXPECT_TRUE(a.rgb.data == b.rgb.data);
+    EXPECT_GT(mean_se(a.y).mean, 0);
+}
+
+TEST(Media, ErrorsAreLocated) {
+    auto expect_error = [](const std::string& world, const std::string& what) {
+        std::string scene = ortho_header(1, 1) + world;
+        try {
+            render_string(scene);
+            ADD_FAILURE() << "expected an error: " << what;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("<test>:"), std::string::npos) << e.what();
+        }
+    };
+    expect_error("MediumInterface \"fog\" \"\"\nShape \"sphere\"\n",
+                 "medium \"fog\" is not defined");
+    expect_error("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float g\" [ 1 ]\n",
+                 "\"g\"");
+    expect_error(
+        "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Nope\"\n",
+        "unknown medium preset");
+    expect_error(
+        "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 2 3 ]"
+        " \"integer nx\" [ 2 ]\n",
+        "expected nx * ny * nz");
+    expect_error("MakeNamedMedium \"m\" \"string type\" \"fancy\"\n", "unknown medium type");
+    expect_error("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float foo\" [ 1 ]\n",
+                 "foo");
+}
+
+}  // namespace
+}  // namespace sr::test
