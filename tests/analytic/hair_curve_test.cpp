@@ -50,5 +50,45 @@ TEST(HairCurves, MelaninAbsorbs) {
     EXPECT_EQ(r.stats.nonfinite, 0u);
 }
 
+/// A horizontal fibre (along x, radius 0.5) seen head-on by an orthographic camera and lit
+/// by a distant light 45 degrees above the view direction, in the fibre's normal plane.
+/// Returns the luminance of the image's upper half minus that of its lower half, over their
+/// sum.
+double upper_minus_lower(const std::string& world) {
+    Rendered r = render_string(R"(
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] "string filename" "x.exr"
+Sampler "zsobol" "integer pixelsamples" [ 16 ]
+Integrator "path" "integer maxdepth" [ 1 ]
+WorldBegin
+LightSource "distant" "point3 from" [ 0 1 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 3 ]
+)" + world);
+    double up = 0, down = 0;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) (y < 8 ? up : down) += r.y[size_t(y) * 16 + x];
+    return (up - down) / (up + down);
+}
+
+TEST(HairCurves, TheSurfaceGlintIsOnTheSideTowardsTheLight) {
+    // A convex specular cylinder reflects the light where its normal bisects the directions
+    // to the light and to the viewer: 22.5 degrees from the view direction towards the light,
+    // so the highlight lies on the half of the fibre towards the light. A rough conductor on
+    // an exact cylinder shows which image half that is; hair that only reflects at its
+    // surface (sigma_a large: R alone) must glint on the same half. This fixes the sign of
+    // the offset h that curves give the hair model.
+    const double cylinder = upper_minus_lower(
+        R"(Material "conductor" "float roughness" 0.1
+Rotate 90 0 1 0
+Shape "cylinder" "float radius" 0.5 "float zmin" -2 "float zmax" 2)");
+    const double hair = upper_minus_lower(
+        R"(Material "hair" "rgb sigma_a" [ 1000 1000 1000 ] "float beta_m" 0.2 "float beta_n" 0.2 "float alpha" 0
+Shape "curve" "string type" "cylinder" "float width" 1 "point3 P" [ -2 0 0  -0.7 0 0  0.7 0 0  2 0 0 ])");
+    std::printf("(upper - lower) / sum: conductor cylinder %.3f, hair curve %.3f\n", cylinder, hair);
+    EXPECT_GT(std::abs(cylinder), 0.3);
+    EXPECT_GT(hair * cylinder, 0) << "the hair's glint is on the other half";
+    EXPECT_GT(std::abs(hair), 0.1);
+}
+
 }  // namespace
 }  // namespace sr::test

@@ -136,19 +136,19 @@ TEST(Curves, RibbonsAndBsplinesAndErrors) {
     EXPECT_FALSE(b.intersect(Ray{Point3(5.1f, 0, 1), Vec3(0, 0, -1), kInfinity}, h));
 
     EXPECT_EQ(build_error("Shape \"curve\" \"point3 P\" [0 0 0 1 0 0 2 0 0 3 0 0 4 0 0]"),
-              "t.pbrt:2:16: Shape \"curve\": a degree-3 Bézier curve needs 4 + 3 n control "
+              "t.pbrt:2:15: Shape \"curve\": a degree-3 Bézier curve needs 4 + 3 n control "
               "points (n >= 0), \"P\" has 5");
     EXPECT_EQ(build_error("Shape \"curve\" \"integer degree\" 4 \"point3 P\" [0 0 0 1 0 0]"),
-              "t.pbrt:2:16: Shape \"curve\": \"degree\" must be 2 or 3, is 4");
+              "t.pbrt:2:15: Shape \"curve\": \"degree\" must be 2 or 3, is 4");
     EXPECT_EQ(build_error("Shape \"curve\" \"string type\" \"ribbon\" \"point3 P\" "
                           "[0 0 0 1 0 0 2 0 0 3 0 0]"),
               "t.pbrt:2:1: Shape \"curve\": a ribbon with 1 segments needs 2 normals \"N\", "
               "has 0");
     EXPECT_EQ(build_error("Shape \"curve\" \"string type\" \"round\""),
-              "t.pbrt:2:16: Shape \"curve\": \"type\" must be \"flat\", \"cylinder\" or "
+              "t.pbrt:2:15: Shape \"curve\": \"type\" must be \"flat\", \"cylinder\" or "
               "\"ribbon\", is \"round\"");
     EXPECT_EQ(build_error("Shape \"curve\" \"float width\" -1 \"point3 P\" [0 0 0 1 0 0 2 0 0 3 0 0]"),
-              "t.pbrt:2:16: Shape \"curve\": \"width\" must be a finite width >= 0, is -1");
+              "t.pbrt:2:15: Shape \"curve\": \"width\" must be a finite width >= 0, is -1");
     EXPECT_NE(build_error("AreaLightSource \"diffuse\"\nShape \"curve\" \"point3 P\" "
                           "[0 0 0 1 0 0 2 0 0 3 0 0]")
                   .find("t.pbrt:3:1: an emitting curve (area light) is not supported"),
