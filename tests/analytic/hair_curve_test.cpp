@@ -29,7 +29,7 @@ std::string fringe(const char* type) {
 }
 
 TEST(HairCurves, NonAbsorbingHairIsInvisibleInTheFurnace) {
-    for (const std::string material :
+    for (const std::string& material :
          {std::string(R"(Material "hair" "rgb sigma_a" [0 0 0] "float beta_m" 0.2)"),
           std::string(R"(Material "hair" "rgb reflectance" [1 1 1] "float alpha" 0)")}) {
         for (const char* type : {"cylinder", "flat"}) {
