@@ -90,5 +90,19 @@ Shape "curve" "string type" "cylinder" "float width" 1 "point3 P" [ -2 0 0  -0.7
     EXPECT_GT(std::abs(hair), 0.1);
 }
 
+TEST(HairCurves, BundledHairSceneRendersCleanly) {
+    SceneDesc d = parse_pbrt_file(std::string(STERADIAN_SOURCE_DIR) + "/scenes/hair.pbrt");
+    Scene s = build_scene(d, {});
+    Film film(s.film);
+    RenderOptions ro;
+    ro.spp = 1;
+    ro.threads = 2;
+    RenderStats st = render(s, film, ro);
+    EXPECT_EQ(st.nonfinite, 0u);
+    double sum = 0;
+    for (double y : film.luminance()) sum += y;
+    EXPECT_GT(sum, 0);
+}
+
 }  // namespace
 }  // namespace sr::test

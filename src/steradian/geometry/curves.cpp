@@ -26,6 +26,12 @@ Point3 cubic_bezier(std::span<const Point3, 4> cp, Float u, Vec3* derivative) {
     return lerp(u, d, e);
 }
 
+Normal3 slerp_normal(Normal3 n0, Normal3 n1, Float u) {
+    const Float angle = std::acos(clamp(dot(n0, n1), Float(-1), Float(1)));
+    if (!(angle > 1e-6f)) return n0;
+    return (n0 * std::sin((1 - u) * angle) + n1 * std::sin(u * angle)) / std::sin(angle);
+}
+
 std::array<Point3, 4> Curves::segment(size_t i) const {
     std::array<Point3, 4> p;
     for (int k = 0; k < 4; ++k) {
@@ -68,14 +74,8 @@ void Curves::fill_hit(uint32_t i, Float u, Point3 o, Vec3 d, Float t, SurfaceHit
     Vec3 across = e;  // the direction of the width in the surface
     Float hr;         // signed offset from the axis along e, in half-widths
     if (type == CurveType::Ribbon) {
-        const Normal3 n0 = (*end_normals)[2 * i], n1 = (*end_normals)[2 * i + 1];
         // pbrt-v4's slerp between the end normals (Curve::RecursiveIntersect).
-        const Float angle = std::acos(clamp(dot(n0, n1), Float(-1), Float(1)));
-        Normal3 n = n0;
-        if (angle > 1e-6f) {
-            const Float inv_sin = 1 / std::sin(angle);
-            n = n0 * (std::sin((1 - u) * angle) * inv_sin) + n1 * (std::sin(u * angle) * inv_sin);
-        }
+        const Normal3 n = slerp_normal((*end_normals)[2 * i], (*end_normals)[2 * i + 1], u);
         ng = ns = perpendicular(n, x);
         if (flip_normals) ng = ns = -ng;
         across = cross(x, ng);

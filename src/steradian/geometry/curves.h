@@ -38,6 +38,10 @@ std::array<Point3, 4> elevate_quadratic_bezier(std::span<const Point3, 3> cp);
 /// The cubic Bézier curve with control points cp at u in [0, 1], and its derivative.
 Point3 cubic_bezier(std::span<const Point3, 4> cp, Float u, Vec3* derivative = nullptr);
 
+/// The spherical linear interpolation of the unit normals n0 and n1 at u (pbrt-v4's ribbon
+/// normal along a segment); n0 where they are (nearly) equal.
+Normal3 slerp_normal(Normal3 n0, Normal3 n1, Float u);
+
 /// A pbrt-v4 "curve" shape in world space (or in an instance prototype's space).
 struct Curves {
     CurveType type = CurveType::Flat;

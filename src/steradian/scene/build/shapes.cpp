@@ -264,17 +264,9 @@ ShapeGeometry Builder::make_curves(const ShapeDesc& s) {
             v = normalize(w);
         }
         for (size_t i = 0; i < segments; ++i) {
-            const Normal3 n0 = n[i], n1 = n[i + 1];
-            c.end_normals->insert(c.end_normals->end(), {n0, n1});
-            const Float angle = std::acos(clamp(dot(n0, n1), Float(-1), Float(1)));
-            for (int k = 0; k < 4; ++k) {
-                const Float u = Float(k) / 3;
-                Normal3 v = n0;
-                if (angle > 1e-6f)
-                    v = (n0 * std::sin((1 - u) * angle) + n1 * std::sin(u * angle)) /
-                        std::sin(angle);
-                c.embree_normals->push_back(v);
-            }
+            c.end_normals->insert(c.end_normals->end(), {n[i], n[i + 1]});
+            for (int k = 0; k < 4; ++k)
+                c.embree_normals->push_back(slerp_normal(n[i], n[i + 1], Float(k) / 3));
         }
         c.embree_normals->push_back(Normal3(0, 0, 0));  // Embree reads 16 bytes at a time
     }
