@@ -114,6 +114,24 @@ void mesh_alpha_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+/// The alpha filter of a curve shape (as mesh_alpha_filter): the hit is filled from the
+/// segment, Embree's curve parameter u and the hit distance (the ray's tfar in a filter).
+void curve_alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* e = static_cast<const ShapeEntry*>(args->geometryUserPtr);
+    const Curves& curves = std::get<Curves>(e->geometry);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const Point3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                       RTCRayN_org_z(args->ray, args->N, i));
+        const Vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_dir_z(args->ray, args->N, i));
+        SurfaceHit h;
+        curves.fill_hit(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                        o, d, RTCRayN_tfar(args->ray, args->N, i), h);
+        if (!alpha_stops(*e->alpha, h, o, d)) args->valid[i] = 0;
+    }
+}
+
 void user_intersect(const RTCIntersectFunctionNArguments* args) {
     const auto* us = static_cast<const UserShape*>(args->geometryUserPtr);
     RTCRayHitN* rh = args->rayhit;
@@ -213,6 +231,25 @@ struct Accel::Impl {
                 rtcSetGeometryIntersectFilterFunction(g, mesh_alpha_filter);
                 rtcSetGeometryOccludedFilterFunction(g, mesh_alpha_filter);
             }
+        } else if (const auto* curves = std::get_if<Curves>(&e.geometry)) {
+            const bool ribbon = curves->type == CurveType::Ribbon;
+            g = rtcNewGeometry(device, ribbon ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE
+                                              : RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE);
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                       curves->cp->data(), 0, sizeof(CurvePoint),
+                                       curves->cp->size());
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT,
+                                       curves->first->data(), 0, sizeof(uint32_t),
+                                       curves->num_segments());
+            if (ribbon)
+                rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
+                                           curves->embree_normals->data(), 0, sizeof(Normal3),
+                                           curves->embree_normals->size() - 1);
+            if (e.alpha) {
+                rtcSetGeometryUserData(g, const_cast<ShapeEntry*>(&e));
+                rtcSetGeometryIntersectFilterFunction(g, curve_alpha_filter);
+                rtcSetGeometryOccludedFilterFunction(g, curve_alpha_filter);
+            }
         } else {
             auto us = std::make_unique<UserShape>();
             us->sphere = std::get_if<Sphere>(&e.geometry);
@@ -267,6 +304,8 @@ struct Accel::Impl {
         if (const auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
             mesh->fill_hit(h.prim, rh.hit.u, rh.hit.v, h);
             if (e.light_offset >= 0) h.light = e.light_offset + int(h.prim);
+        } else if (const auto* curves = std::get_if<Curves>(&e.geometry)) {
+            curves->fill_hit(h.prim, rh.hit.u, r.o, r.d, h.t, h);  // never emits (builder)
         } else {
             Point3 p_local = r.o + r.d * h.t;
             if (const auto* s = std::get_if<Sphere>(&e.geometry)) {

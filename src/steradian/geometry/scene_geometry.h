@@ -11,13 +11,14 @@
 #include <vector>
 
 #include "steradian/core/transform.h"
+#include "steradian/geometry/curves.h"
 #include "steradian/geometry/hit.h"
 #include "steradian/geometry/shapes.h"
 #include "steradian/sampling/hash.h"
 
 namespace sr {
 
-using ShapeGeometry = std::variant<TriangleMesh, Sphere, Disk, Cylinder>;
+using ShapeGeometry = std::variant<TriangleMesh, Sphere, Disk, Cylinder, Curves>;
 
 /// A shape's alpha (pbrt-v4's "alpha" cut-outs), given by the scene (a float texture):
 /// the fraction of the rays meeting the surface at a hit that stop there.

@@ -102,6 +102,34 @@ int mix_choice(const MixMaterial& m, const MaterialContext& ctx, const SurfaceHi
     return amount < u ? m.materials[0] : m.materials[1];
 }
 
+/// pbrt-v4's HairMaterial::GetBxDF: roughnesses clamped to [0.01, 1], sigma_a from the
+/// first given of sigma_a, reflectance and the melanin concentrations (each clamped to >= 0).
+HairLobe hair_lobe(const HairMaterial& m, const MaterialContext& ctx, const SurfaceHit& h,
+                   const SampledWavelengths& lambda) {
+    const auto& ftex = *ctx.float_textures;
+    const Float beta_m = clamp(evaluate(ftex[m.beta_m], h), Float(0.01), Float(1));
+    const Float beta_n = clamp(evaluate(ftex[m.beta_n], h), Float(0.01), Float(1));
+    SampledSpectrum sigma_a;
+    if (m.sigma_a >= 0) {
+        sigma_a = evaluate((*ctx.spectrum_textures)[m.sigma_a], h, lambda);
+        for (int i = 0; i < kSpectrumSamples; ++i) sigma_a[i] = std::max(Float(0), sigma_a[i]);
+    } else if (m.reflectance >= 0) {
+        sigma_a = HairLobe::sigma_a_from_reflectance(
+            clamped(evaluate((*ctx.spectrum_textures)[m.reflectance], h, lambda)), beta_n);
+    } else {
+        auto conc = [&](int t) { return t >= 0 ? std::max(Float(0), evaluate(ftex[t], h)) : 0; };
+        const auto rgb = HairLobe::sigma_a_from_concentration(conc(m.eumelanin), conc(m.pheomelanin));
+        const RgbUnboundedSpectrum spec =
+            rgb_unbounded_spectrum_interpolated(Rgb{rgb[0], rgb[1], rgb[2]});
+        for (int i = 0; i < kSpectrumSamples; ++i) sigma_a[i] = spec(lambda[i]);
+    }
+    // An infinite absorption (a black reflectance) would meet a zero chord length at h = +-1.
+    for (int i = 0; i < kSpectrumSamples; ++i)
+        sigma_a[i] = std::isnan(sigma_a[i]) ? 0 : std::min(sigma_a[i], Float(1e30));
+    return HairLobe(2 * h.uv.y - 1, evaluate(ftex[m.eta], h), sigma_a, beta_m, beta_n,
+                    evaluate(ftex[m.alpha], h));
+}
+
 }  // namespace
 
 void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, SurfaceHit& h) {
@@ -215,6 +243,8 @@ std::optional<Bsdf> bsdf_at(const Material& m, const MaterialContext& ctx, const
                 ConductorLobe base{ce / eta, ck / eta, microfacets(mat.conductor_roughness, ctx, h)};
                 out.emplace(shading_frame(h), h.ng,
                             layered_lobe(top, base, mat.layer, ctx, h, lambda));
+            } else if constexpr (std::is_same_v<T, HairMaterial>) {
+                out.emplace(shading_frame(h), h.ng, hair_lobe(mat, ctx, h, lambda));
             } else if constexpr (std::is_same_v<T, MixMaterial>) {
                 out = make_bsdf((*ctx.materials)[mix_choice(mat, ctx, h)], ctx, h, lambda);
             } else {

@@ -132,11 +132,23 @@ struct MixMaterial : MaterialCommon {
     int amount = -1;              ///< float texture
 };
 
+/// pbrt-v4 "hair" (bsdf/hair.h). The absorption comes from the first of: sigma_a, a
+/// reflectance (the multiple-scattering colour, Chiang et al. 2016, eq. 9) or melanin
+/// concentrations (the builder turns constant concentrations into a constant sigma_a).
+/// The offset across the fibre is h = 2 v - 1 (v of the hit's uv).
+struct HairMaterial : MaterialCommon {
+    int sigma_a = -1;      ///< spectrum texture (unbounded), or -1
+    int reflectance = -1;  ///< spectrum texture, clamped to [0, 1], or -1
+    int eumelanin = -1, pheomelanin = -1;  ///< float textures, or -1 (used without sigma_a
+                                           ///< and reflectance)
+    int eta = -1, beta_m = -1, beta_n = -1, alpha = -1;  ///< float textures
+};
+
 using Material = std::variant<DiffuseMaterial, InterfaceMaterial, DielectricMaterial,
                               ThinDielectricMaterial, ConductorMaterial,
                               DiffuseTransmissionMaterial, PhongMaterial, LafortuneMaterial,
                               WardMaterial, CoatedDiffuseMaterial, CoatedConductorMaterial,
-                              MixMaterial>;
+                              MixMaterial, HairMaterial>;
 
 struct MaterialContext {
     const std::vector<SpectrumTexture>* spectrum_textures = nullptr;

@@ -17,8 +17,8 @@ namespace {
 static_assert(sizeof(SurfaceHit) == 47 * 4, "SurfaceHit: 47 four-byte fields, no padding");
 
 // One shape of each kind the accelerator fills differently: a curved triangle mesh with vertex
-// normals (its hits have normal derivatives), a flat mesh without, a sphere, a disk, and an
-// instanced sphere. The rays run along -z towards them.
+// normals (its hits have normal derivatives), a flat mesh without, a sphere, a disk, an
+// instanced sphere and a curve. The rays run along -z towards them.
 const char* kScene = R"(
 Camera "perspective"
 Film "rgb" "integer xresolution" [4] "integer yresolution" [4]
@@ -40,6 +40,8 @@ AttributeBegin
   Translate 9 0 0
   ObjectInstance "ball"
 AttributeEnd
+Shape "curve" "string type" "cylinder" "point3 P" [13 -1 0  13 -0.3 0  13 0.3 0  13 1 0]
+    "float width" 0.5
 )";
 
 Ray ray_at(Float x) { return Ray{Point3(x, 0.1f, 10), Vec3(0, 0, -1), kInfinity}; }
@@ -49,7 +51,7 @@ Ray ray_at(Float x) { return Ray{Point3(x, 0.1f, 10), Vec3(0, 0, -1), kInfinity}
 // fresh one does. (The path integrator keeps one record per path and relies on this.)
 TEST(SceneIntersect, WritesEveryFieldOfTheHit) {
     Scene s = build_scene(parse_pbrt_string(kScene, "<test>"));
-    const std::vector<Float> xs = {-9, -5, 0, 5, 9};
+    const std::vector<Float> xs = {-9, -5, 0, 5, 9, 13};
     SurfaceHit curved;
     ASSERT_TRUE(s.intersect(ray_at(-9), curved));
     ASSERT_NE(length_squared(curved.dndu) + length_squared(curved.dndv), 0)
@@ -180,10 +182,10 @@ TEST(SceneBuild, UnsupportedThingsAreAllReportedInFileOrder) {
 Sampler "halton" "integer pixelsamples" 4 "string bogus" "x"
 WorldBegin
 Texture "t" "spectrum" "ptex"
-Material "hair"
+Material "subsurface"
 MakeNamedMaterial "m" "string type" "diffuse" "texture reflectance" "t" "float sigma" 2
 NamedMaterial "m"
-Shape "curve"
+Shape "heightfield"
 Shape "sphere"
 LightSource "spot" "float conedelta" 3
 AreaLightSource "diffuse" "string filename" "e.exr"
@@ -199,9 +201,9 @@ Shape "disk"
          {"\nt.pbrt:1:1: Camera \"spherical\" is not supported yet",
           "\nt.pbrt:2:43: unused parameter \"string bogus\" for Sampler \"halton\"",
           "\nt.pbrt:4:1: Texture \"ptex\" is not supported yet",
-          "\nt.pbrt:5:1: material type \"hair\" is not supported yet",
+          "\nt.pbrt:5:1: material type \"subsurface\" is not supported yet",
           "\nt.pbrt:6:73: unused parameter \"float sigma\"",
-          "\nt.pbrt:8:1: shape type \"curve\" is not supported yet",
+          "\nt.pbrt:8:1: shape type \"heightfield\" is not supported yet",
           "\nt.pbrt:10:20: LightSource \"spot\": \"conedelta\" is not a pbrt-v4 parameter",
           "\nt.pbrt:11:1: image-textured area lights"}) {
         const size_t p = msg.find(want, at);
@@ -212,10 +214,10 @@ Shape "disk"
 }
 
 TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
-    EXPECT_EQ(build_error("WorldBegin\nShape \"curve\"\n"),
-              "t.pbrt:2:1: shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
+    EXPECT_EQ(build_error("WorldBegin\nShape \"heightfield\"\n"),
+              "t.pbrt:2:1: shape type \"heightfield\" is not supported yet (see docs/pbrt-support.md)");
     std::string text = "WorldBegin\n";
-    for (int i = 0; i < 30; ++i) text += "Shape \"curve\"\n";
+    for (int i = 0; i < 30; ++i) text += "Shape \"heightfield\"\n";
     const std::string msg = build_error(text);
     EXPECT_NE(msg.find("20 unsupported features or unknown parameters (stopped at the first 20)"),
               std::string::npos)
@@ -223,10 +225,10 @@ TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
     EXPECT_EQ(count_of(msg, "\nt.pbrt:"), 20u);
     // An error of another kind after unsupported ones ends the list.
     const std::string mixed =
-        build_error("WorldBegin\nShape \"curve\"\nShape \"sphere\" \"float radius\" -1\n");
+        build_error("WorldBegin\nShape \"heightfield\"\nShape \"sphere\" \"float radius\" -1\n");
     EXPECT_NE(mixed.find("1 unsupported features or unknown parameters (see "
                          "docs/pbrt-support.md), then an error:\nt.pbrt:2:1: shape type "
-                         "\"curve\""),
+                         "\"heightfield\""),
               std::string::npos)
         << mixed;
     EXPECT_NE(mixed.find("\nt.pbrt:3:1: Shape \"sphere\": radius must be positive"),

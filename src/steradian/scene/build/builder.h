@@ -100,7 +100,8 @@ class Builder {
                                                       Float def);
     std::shared_ptr<const SpectrumTexture> spectrum_tex_arg(const ParamSet& ps,
                                                             std::string_view name, Float def);
-    int spectrum_texture_param(const ParamSet& ps, std::string_view name, Float def);
+    int spectrum_texture_param(const ParamSet& ps, std::string_view name, Float def,
+                               SpectrumKind kind = SpectrumKind::Albedo);
     int float_texture_param(const ParamSet& ps, std::string_view name, Float def);
 
     // ---- material parameters (material_params.cpp) -------------------------------------
@@ -110,6 +111,7 @@ class Builder {
     int albedo_param(const ParamSet& ps, std::string_view name, Float def);
     std::optional<Float> constant_albedo_sum(int a, int b) const;
     Float energy_scale(int kd, int ks, const SourceLoc& loc, const std::string& what);
+    HairMaterial hair_params(const ParamSet& ps, const std::string& what);
     int bounded_float_param(const ParamSet& ps, std::string_view name, Float def, bool positive);
     LafortuneMaterial lafortune_params(const ParamSet& ps, const SourceLoc& loc,
                                        const std::string& what);
@@ -133,6 +135,7 @@ class Builder {
     void check_alpha(const ShapeDesc& s);
     std::shared_ptr<const AlphaMask> alpha_mask(const ShapeDesc& s);
     ShapeGeometry make_bilinear(const ShapeDesc& s);
+    ShapeGeometry make_curves(const ShapeDesc& s);
     void add_shape(const ShapeDesc& s, Prototype* proto);
     void build_instances();
 

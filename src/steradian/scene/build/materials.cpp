@@ -36,7 +36,9 @@ Material Builder::make_material(const MaterialDesc& m) {
     const ParamSet& ps = m.params;
     MaterialCommon common;
     bool has_perturbation = false;
-    if (m.type != "interface" && m.type != "none" && !m.type.empty() && m.type != "mix") {
+    // pbrt-v4's hair material has no normal or bump map either.
+    if (m.type != "interface" && m.type != "none" && !m.type.empty() && m.type != "mix" &&
+        m.type != "hair") {
         if (auto file = ps.find_string("normalmap")) {
             const Param* p = ps.find("normalmap");
             auto img = std::make_shared<TextureImage>();
@@ -158,6 +160,11 @@ Material Builder::make_material_model(const MaterialDesc& m) {
         ps.check_unused(what);
         return mix;
     }
+    if (m.type == "hair") {
+        HairMaterial h = hair_params(ps, what);
+        ps.check_unused(what);
+        return h;
+    }
     if (m.type == "phong" || m.type == "modifiedphong") {  // steradian extensions
         PhongMaterial p;
         p.kd = albedo_param(ps, "Kd", 0.5f);
@@ -185,6 +192,57 @@ Material Builder::make_material_model(const MaterialDesc& m) {
     }
     throw_unsupported(m.loc, "material type \"{}\" is not supported yet (see docs/pbrt-support.md)",
                       m.type);
+}
+
+/// pbrt-v4's HairMaterial::Create: the absorption from "sigma_a" (unbounded spectrum), else
+/// "reflectance" (or its older name "color"), else "eumelanin"/"pheomelanin", else
+/// eumelanin 1.3; the others given are ignored with a warning. "eta" (1.55), "beta_m" (0.3),
+/// "beta_n" (0.3), "alpha" (2 degrees), all float textures.
+HairMaterial Builder::hair_params(const ParamSet& ps, const std::string& what) {
+    HairMaterial h;
+    const char* refl = ps.find("reflectance") ? "reflectance" : "color";
+    const bool has_sigma = ps.find("sigma_a"), has_refl = ps.find(refl);
+    const bool has_melanin = ps.find("eumelanin") || ps.find("pheomelanin");
+    auto ignored = [&](const char* name, const char* because) {
+        if (const Param* p = ps.find(name)) {
+            p->used = true;
+            warning(p->loc, fmt::format("{}: \"{}\" is ignored since \"{}\" is given (as in "
+                                        "pbrt-v4)",
+                                        what, name, because));
+        }
+    };
+    if (has_sigma) {
+        h.sigma_a = spectrum_texture_param(ps, "sigma_a", 0, SpectrumKind::Unbounded);
+        ignored(refl, "sigma_a");
+        ignored("eumelanin", "sigma_a");
+        ignored("pheomelanin", "sigma_a");
+    } else if (has_refl) {
+        h.reflectance = spectrum_texture_param(ps, refl, 0.5f);
+        ignored("eumelanin", refl);
+        ignored("pheomelanin", refl);
+    } else if (has_melanin && (ps.find_texture("eumelanin") || ps.find_texture("pheomelanin"))) {
+        h.eumelanin = float_texture_param(ps, "eumelanin", 0);
+        h.pheomelanin = float_texture_param(ps, "pheomelanin", 0);
+        build_rgb_uplift_table();  // per-hit concentrations are uplifted by table
+    } else {
+        // Constant concentrations (pbrt-v4's default: eumelanin 1.3) as a constant sigma_a.
+        const Float ce = has_melanin ? ps.get_float("eumelanin", 0) : Float(1.3);
+        const Float cp = has_melanin ? ps.get_float("pheomelanin", 0) : Float(0);
+        for (const char* name : {"eumelanin", "pheomelanin"})
+            if (const Param* p = ps.find(name); p && !(ps.get_float(name, 0) >= 0))
+                throw_error(p->loc, "{}: \"{}\" must be a concentration >= 0", what, name);
+        const auto rgb = HairLobe::sigma_a_from_concentration(ce, cp);
+        m_s.spectrum_textures.push_back(ConstantSpectrumTexture{
+            densely_sampled(rgb_unbounded_spectrum(Rgb{rgb[0], rgb[1], rgb[2]}))});
+        h.sigma_a = int(m_s.spectrum_textures.size()) - 1;
+    }
+    h.eta = float_texture_param(ps, "eta", 1.55f);
+    if (const Param* p = ps.find("eta", ParamType::Float); p && !(ps.get_float("eta", 1) > 0))
+        throw_error(p->loc, "{}: \"eta\" must be positive", what);
+    h.beta_m = float_texture_param(ps, "beta_m", 0.3f);
+    h.beta_n = float_texture_param(ps, "beta_n", 0.3f);
+    h.alpha = float_texture_param(ps, "alpha", 2);
+    return h;
 }
 
 void Builder::build_materials() {

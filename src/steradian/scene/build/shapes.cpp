@@ -146,8 +146,132 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
         ps.check_unused(what);
         return c;
     }
+    if (s.type == "curve") return make_curves(s);
     throw_unsupported(s.loc, "shape type \"{}\" is not supported yet (see docs/pbrt-support.md)",
                       s.type);
+}
+
+/// pbrt-v4's Curve::Create: "P", "basis" (bezier), "degree" (3), "type" (flat), "N" (ribbons
+/// only), "width" (1), "width0" and "width1" (width), "splitdepth" (3; pbrt-v4's own
+/// subdivision, which Embree does not need). Every input segment becomes a cubic Bézier
+/// segment; the width varies linearly from width0 to width1 over the whole curve.
+ShapeGeometry Builder::make_curves(const ShapeDesc& s) {
+    const ParamSet& ps = s.params;
+    const std::string what = "Shape \"curve\"";
+    auto at = [&](std::string_view name) {
+        const Param* p = ps.find(name);
+        return p ? p->loc : s.loc;
+    };
+    const Float width = ps.get_float("width", 1);
+    const Float width0 = ps.get_float("width0", width), width1 = ps.get_float("width1", width);
+    const std::pair<const char*, Float> widths[] = {
+        {"width", width}, {"width0", width0}, {"width1", width1}};
+    for (const auto& [name, w] : widths)
+        if (!(w >= 0) || !std::isfinite(w))
+            throw_error(at(name), "{}: \"{}\" must be a finite width >= 0, is {}", what, name, w);
+    const int degree = ps.get_int("degree", 3);
+    if (degree != 2 && degree != 3)
+        throw_error(at("degree"), "{}: \"degree\" must be 2 or 3, is {}", what, degree);
+    const std::string basis = ps.get_string("basis", "bezier");
+    if (basis != "bezier" && basis != "bspline")
+        throw_error(at("basis"), "{}: \"basis\" must be \"bezier\" or \"bspline\", is \"{}\"",
+                    what, basis);
+    const std::string type_name = ps.get_string("type", "flat");
+    Curves c;
+    if (type_name == "flat")
+        c.type = CurveType::Flat;
+    else if (type_name == "cylinder")
+        c.type = CurveType::Cylinder;
+    else if (type_name == "ribbon")
+        c.type = CurveType::Ribbon;
+    else
+        throw_error(at("type"),
+                    "{}: \"type\" must be \"flat\", \"cylinder\" or \"ribbon\", is \"{}\"", what,
+                    type_name);
+    const std::vector<Point3> p = ps.get_point3s("P");
+    const size_t np = p.size(), deg = size_t(degree);
+    size_t segments = 0;
+    if (basis == "bezier") {
+        // degree + 1 points for the first segment, degree more for each further one.
+        if (np < deg + 1 || (np - 1) % deg != 0)
+            throw_error(at("P"),
+                        "{}: a degree-{} Bézier curve needs {} + {} n control points (n >= 0), "
+                        "\"P\" has {}",
+                        what, degree, deg + 1, deg, np);
+        segments = (np - 1) / deg;
+    } else {
+        if (np < deg + 1)
+            throw_error(at("P"), "{}: a degree-{} B-spline needs at least {} control points, "
+                        "\"P\" has {}",
+                        what, degree, deg + 1, np);
+        segments = np - deg;
+    }
+    std::vector<Normal3> n = ps.get_normals("N");
+    if (c.type != CurveType::Ribbon && !n.empty()) {
+        warning(at("N"), fmt::format("{}: \"N\" is used only by \"ribbon\" curves (ignored, as "
+                                     "in pbrt-v4)",
+                                     what));
+        n.clear();
+    }
+    if (c.type == CurveType::Ribbon && n.size() != segments + 1)
+        throw_error(at("N"), "{}: a ribbon with {} segments needs {} normals \"N\", has {}", what,
+                    segments, segments + 1, n.size());
+    ps.get_int("splitdepth", 3);
+    check_alpha(s);
+    ps.check_unused(what);
+
+    const Transform& x = s.world_from_object;
+    for (const Point3& q : p)
+        if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+            throw_error(at("P"), "{}: non-finite control point", what);
+    // Widths are in object space: scaled by the transform's mean linear scale (exact for
+    // rigid motions and uniform scales).
+    const auto& m = x.matrix().m;
+    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    const Float scale = Float(std::cbrt(std::abs(det)));
+    c.cp = std::make_shared<std::vector<CurvePoint>>();
+    c.first = std::make_shared<std::vector<uint32_t>>();
+    c.cp->reserve(4 * segments);
+    for (size_t i = 0; i < segments; ++i) {
+        std::array<Point3, 4> b;
+        if (basis == "bezier") {
+            const size_t o = i * deg;
+            b = degree == 3 ? std::array<Point3, 4>{p[o], p[o + 1], p[o + 2], p[o + 3]}
+                            : elevate_quadratic_bezier(std::span<const Point3, 3>(&p[o], 3));
+        } else if (degree == 3) {
+            b = cubic_bspline_to_bezier(std::span<const Point3, 4>(&p[i], 4));
+        } else {
+            const auto q = quadratic_bspline_to_bezier(std::span<const Point3, 3>(&p[i], 3));
+            b = elevate_quadratic_bezier(q);
+        }
+        const Float wa = lerp(Float(i) / Float(segments), width0, width1);
+        const Float wb = lerp(Float(i + 1) / Float(segments), width0, width1);
+        c.first->push_back(uint32_t(c.cp->size()));
+        for (int k = 0; k < 4; ++k) {
+            const Point3 w = x.point(b[k]);
+            c.cp->push_back({w.x, w.y, w.z, Float(0.5) * scale * lerp(Float(k) / 3, wa, wb)});
+        }
+    }
+    if (c.type == CurveType::Ribbon) {
+        c.end_normals = std::make_shared<std::vector<Normal3>>();
+        c.embree_normals = std::make_shared<std::vector<Normal3>>();
+        for (Normal3& v : n) {
+            const Vec3 w = x.normal(v);
+            if (!(length_squared(w) > 0) || !std::isfinite(length_squared(w)))
+                throw_error(at("N"), "{}: \"N\" holds a zero or non-finite normal", what);
+            v = normalize(w);
+        }
+        for (size_t i = 0; i < segments; ++i) {
+            c.end_normals->insert(c.end_normals->end(), {n[i], n[i + 1]});
+            for (int k = 0; k < 4; ++k)
+                c.embree_normals->push_back(slerp_normal(n[i], n[i + 1], Float(k) / 3));
+        }
+        c.embree_normals->push_back(Normal3(0, 0, 0));  // Embree reads 16 bytes at a time
+    }
+    c.flip_normals = s.reverse_orientation != x.swaps_handedness();
+    return c;
 }
 
 void Builder::check_alpha(const ShapeDesc& s) {
@@ -258,6 +382,9 @@ void check_extent(const ShapeGeometry& g, const ShapeDesc& s) {
         corners(d->world_from_object, d->radius, d->height, d->height);
     } else if (const auto* c = std::get_if<Cylinder>(&g)) {
         corners(c->world_from_object, c->radius, c->z_min, c->z_max);
+    } else if (const auto* cv = std::get_if<Curves>(&g)) {
+        for (const CurvePoint& q : *cv->cp)
+            check_position(Point3(q.x, q.y, q.z), s.loc, what + ": a control point");
     }
 }
 
@@ -279,6 +406,9 @@ void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
     int index = int(m_s.shapes.size());
     if (s.area_light >= 0 && std::holds_alternative<Cylinder>(e.geometry))
         throw_unsupported(s.loc, "an emitting cylinder (area light) is not supported yet");
+    if (s.area_light >= 0 && std::holds_alternative<Curves>(e.geometry))
+        throw_unsupported(s.loc, "an emitting curve (area light) is not supported (pbrt-v4 "
+                                 "cannot sample points on curves either)");
     if (s.area_light >= 0 && e.alpha)
         throw_unsupported(s.params.find("alpha")->loc,
                           "\"alpha\" on an emitting shape (area light) is not supported yet");

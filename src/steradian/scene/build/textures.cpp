@@ -274,8 +274,10 @@ std::shared_ptr<const SpectrumTexture> Builder::spectrum_tex_arg(const ParamSet&
 }
 
 /// A spectrum-texture index for material parameter `name`: a texture reference, an
-/// inline spectrum, or the default constant.
-int Builder::spectrum_texture_param(const ParamSet& ps, std::string_view name, Float def) {
+/// inline spectrum (of the given kind: RGB values are uplifted as albedos or unbounded), or
+/// the default constant.
+int Builder::spectrum_texture_param(const ParamSet& ps, std::string_view name, Float def,
+                                    SpectrumKind kind) {
     if (auto tn = ps.find_texture(name)) {
         auto it = m_spec_tex.find(*tn);
         if (it == m_spec_tex.end()) {
@@ -286,7 +288,7 @@ int Builder::spectrum_texture_param(const ParamSet& ps, std::string_view name, F
     }
     Spectrum s = ConstantSpectrum{def};
     if (const Param* p = ps.find_spectrum(name))
-        s = spectrum_from_param(*p, SpectrumKind::Albedo, m_d.base_dir);
+        s = spectrum_from_param(*p, kind, m_d.base_dir);
     m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
     return int(m_s.spectrum_textures.size()) - 1;
 }
