@@ -181,10 +181,11 @@ void Builder::build_spectrum_texture(const TextureDesc& t) {
         m_spec_tex[t.name] = int(m_s.spectrum_textures.size());
         m_s.spectrum_textures.push_back(ConstantSpectrumTexture{densely_sampled(s)});
     } else if (t.type == "imagemap") {
-        build_rgb_uplift_table();  // per-lookup RGB uplift (once per process)
         ImageSpectrumTexture it;
         it.mapping = read_mapping(t, ps);
         it.image = load_image(t, ps);
+        // Per-lookup RGB uplift (once per process; after the image, whose errors come first).
+        build_rgb_uplift_table();
         it.scale = ps.get_float("scale", 1);
         it.invert = ps.get_bool("invert", false);
         read_filter(t, ps, it.filter, it.max_aniso);
