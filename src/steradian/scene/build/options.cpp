@@ -246,6 +246,14 @@ void Builder::build_integrator(const EntityDesc& e) {
         ee.type = type;
         unsupported(ee, "Integrator");
     }
+    if (const Param* rr = ps.find("rrthreshold")) {
+        // pbrt-v3's Russian-roulette threshold: pbrt-v4 has none (its --upgrade removes it;
+        // its roulette is fixed). Dropped with a warning, as the upgrade does.
+        ps.get_float("rrthreshold", 1);
+        warning(rr->loc, fmt::format("Integrator \"{}\": \"rrthreshold\" is pbrt-v3's (pbrt-v4 "
+                                     "has no such parameter; its --upgrade drops it); ignored",
+                                     type));
+    }
     if (is.max_depth < 0) throw_error(e.loc, "maxdepth must be >= 0");
     std::string ls = ps.get_string("lightsampler", "bvh");
     if (ls == "uniform")
