@@ -75,9 +75,8 @@ TEST(CameraSensorFilm, WhitePlaneGivesThePredictedSensorRgb) {
             R"(Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
     "string filename" "x.exr" "string sensor" "nikon_d850" "float iso" [ 400 ] {})",
             wb);
-        Rendered r = render_string(
-            blackbody_plane(film, R"("float shutteropen" [ 0 ] "float shutterclose" [ 0.5 ])", rho,
-                            64));
+        Rendered r = render_string(blackbody_plane(
+            film, R"("float shutteropen" [ 0 ] "float shutterclose" [ 0.5 ])", rho, 64));
         const auto curves = *camera_sensor_curves("nikon_d850");
         const auto L = normalised_blackbody_3000();
         double sensor[3];
@@ -90,8 +89,8 @@ TEST(CameraSensorFilm, WhitePlaneGivesThePredictedSensorRgb) {
         for (int c = 0; c < 3; ++c) {
             const double expected = m[c][0] * sensor[0] + m[c][1] * sensor[1] + m[c][2] * sensor[2];
             const MeanSe px = mean_se(region(r, 0, 0, 16, 16, c));
-            std::printf("wb '%s' channel %d: %.5f +- %.5f (expected %.5f)\n", wb, c, px.mean,
-                        px.se, expected);
+            std::printf("wb '%s' channel %d: %.5f +- %.5f (expected %.5f)\n", wb, c, px.mean, px.se,
+                        expected);
             EXPECT_GT(expected, 0.05);
             EXPECT_NEAR(px.mean, expected, kZ * px.se + 1e-4 * expected) << c;
         }
@@ -125,7 +124,8 @@ Image render_to_exr(const std::string& pbrt, const std::string& name) {
     ro.threads = 2;
     render(s, film, ro);
     const std::string path =
-        (std::filesystem::temp_directory_path() / ("steradian_film_test_" + name + ".exr")).string();
+        (std::filesystem::temp_directory_path() / ("steradian_film_test_" + name + ".exr"))
+            .string();
     write_image(path, film.output_image());
     Image img = read_exr_channels(path);
     std::filesystem::remove(path);
@@ -172,18 +172,38 @@ TEST(GBufferFilm, TiltedPlaneGivesExactGeometryChannels) {
     const int spp = 16;
     for (const char* cs : {"camera", "world"}) {
         const bool cam = std::string(cs) == "camera";
-        Image img = render_to_exr(
-            tilted_plane(fmt::format(R"(Film "gbuffer" "integer xresolution" [ 16 ]
+        Image img =
+            render_to_exr(tilted_plane(fmt::format(R"(Film "gbuffer" "integer xresolution" [ 16 ]
     "integer yresolution" [ 16 ] "string filename" "g.exr" "string coordinatesystem" "{}")",
-                                     cs),
-                         spp),
-            cs);
+                                                   cs),
+                                       spp),
+                          cs);
         ASSERT_EQ(img.channels, 25);
-        for (const char* n :
-             {"R", "G", "B", "Albedo.R", "Albedo.G", "Albedo.B", "P.X", "P.Y", "P.Z", "dzdx",
-              "dzdy", "N.X", "N.Y", "N.Z", "Ns.X", "Ns.Y", "Ns.Z", "u", "v", "Variance.R",
-              "Variance.G", "Variance.B", "RelativeVariance.R", "RelativeVariance.G",
-              "RelativeVariance.B"})
+        for (const char* n : {"R",
+                              "G",
+                              "B",
+                              "Albedo.R",
+                              "Albedo.G",
+                              "Albedo.B",
+                              "P.X",
+                              "P.Y",
+                              "P.Z",
+                              "dzdx",
+                              "dzdy",
+                              "N.X",
+                              "N.Y",
+                              "N.Z",
+                              "Ns.X",
+                              "Ns.Y",
+                              "Ns.Z",
+                              "u",
+                              "v",
+                              "Variance.R",
+                              "Variance.G",
+                              "Variance.B",
+                              "RelativeVariance.R",
+                              "RelativeVariance.G",
+                              "RelativeVariance.B"})
             channel(img, n);
         // The sample mean of a position uniform over a pixel of width 1/8 has a standard
         // deviation of (1/8)/sqrt(12 spp) (less with stratified samples).
@@ -213,7 +233,8 @@ TEST(GBufferFilm, TiltedPlaneGivesExactGeometryChannels) {
                 for (const char* v : {"Variance.G", "RelativeVariance.G"})
                     EXPECT_GE(img.at(i, j, channel(img, v)), 0);
                 for (int c = 0; c < 3; ++c)
-                    albedo[c].push_back(img.at(i, j, channel(img, std::string("Albedo.") + "RGB"[c])));
+                    albedo[c].push_back(
+                        img.at(i, j, channel(img, std::string("Albedo.") + "RGB"[c])));
             }
         for (int c = 0; c < 3; ++c) {
             const double expected = 0.6 * (m[c][0] * d65.x + m[c][1] * d65.y + m[c][2] * d65.z);
@@ -227,9 +248,10 @@ TEST(GBufferFilm, TiltedPlaneGivesExactGeometryChannels) {
 
 TEST(GBufferFilm, OnlyExrAndKnownCoordinateSystems) {
     auto scene = [](const std::string& extra) {
-        return tilted_plane(R"(Film "gbuffer" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ]
+        return tilted_plane(
+            R"(Film "gbuffer" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ]
     )" + extra,
-                            1);
+            1);
     };
     for (const char* bad : {R"("string filename" "g.png")", R"("string filename" "g.pfm")",
                             R"("string filename" "g.exr" "string coordinatesystem" "screen")"}) {
@@ -272,7 +294,8 @@ Shape "bilinearmesh" "point3 P" [ -2 -2 0  2 -2 0  -2 2 0  2 2 0 ]
     double ys = 0;
     for (int l = 360; l <= 830; ++l) ys += S(l) * double(cie_y()(Float(l)));
     bool has_version = false;
-    for (const auto& [k, v] : img.attributes) has_version |= k == "spectralLayoutVersion" && v == "1.0";
+    for (const auto& [k, v] : img.attributes)
+        has_version |= k == "spectralLayoutVersion" && v == "1.0";
     EXPECT_TRUE(has_version);
     for (int b = 0; b < 6; ++b) {
         const double centre = 400 + 50 * (b + 0.5);

@@ -17,6 +17,13 @@ namespace gbuffer {
 // sum of squared deviations).
 constexpr int kWeight = 0, kP = 1, kN = 4, kNs = 7, kUv = 10, kDz = 12, kAlbedo = 14,
               kVariance = 17, kStride = 26;
+/// pbrt-v4's GBufferFilm channels after R, G, B, in its order.
+// clang-format off
+constexpr const char* kChannels[] = {
+    "Albedo.R", "Albedo.G", "Albedo.B", "P.X", "P.Y", "P.Z", "dzdx", "dzdy", "N.X", "N.Y",
+    "N.Z", "Ns.X", "Ns.Y", "Ns.Z", "u", "v", "Variance.R", "Variance.G", "Variance.B",
+    "RelativeVariance.R", "RelativeVariance.G", "RelativeVariance.B"};
+// clang-format on
 }  // namespace gbuffer
 
 std::array<std::array<Float, 3>, 3> srgb_from_xyz_matrix() {
@@ -35,6 +42,7 @@ std::array<std::array<Float, 3>, 3> srgb_from_xyz_white_balanced(Float sx, Float
                                {0.4323053, 0.5183603, 0.0492912},
                                {-0.0085287, 0.0400428, 0.9684867}};
     auto xyz_of = [](double x, double y) { return std::array<double, 3>{x / y, 1, (1 - x - y) / y}; };
+    };
     auto src = xyz_of(sx, sy), dst = xyz_of(0.3127, 0.3290);
     double ls[3], ld[3];
     for (int i = 0; i < 3; ++i) {
@@ -73,8 +81,8 @@ Film::Film(const FilmParams& p) : m_p(p), m_pixels(size_t(p.width()) * p.height(
 
 void Film::set_aux_sums(std::vector<double> sums) {
     if (sums.size() != m_aux.size())
-        throw Error(fmt::format("film: {} auxiliary sums for a film of {}", sums.size(),
-                                m_aux.size()));
+        throw Error(
+            fmt::format("film: {} auxiliary sums for a film of {}", sums.size(), m_aux.size()));
     m_aux = std::move(sums);
 }
 
@@ -94,7 +102,8 @@ void Film::add_aux(std::vector<double>& aux, int x, int y, const SampledSpectrum
         const int n = m_p.buckets;
         for (int i = 0; i < kSpectrumSamples; ++i) {
             if (lambda.pdf[i] == 0) continue;
-            int b = int(n * (lambda.lambda[i] - m_p.lambda_min) / (m_p.lambda_max - m_p.lambda_min));
+            int b =
+                int(n * (lambda.lambda[i] - m_p.lambda_min) / (m_p.lambda_max - m_p.lambda_min));
             b = std::clamp(b, 0, n - 1);
             a[b] += weight * clamp * double(L[i]) * kCieYIntegral;
             a[n + b] += weight;
@@ -117,7 +126,8 @@ void Film::add_aux(std::vector<double>& aux, int x, int y, const SampledSpectrum
     const Transform& t = m_p.camera_from_world;
     const Point3 p = cam ? t.point(vs->p) : vs->p;
     const Normal3 n = cam ? t.normal(vs->n) : vs->n, ns = cam ? t.normal(vs->ns) : vs->ns;
-    const Vec3 dpdx = cam ? t.vector(vs->dpdx) : vs->dpdx, dpdy = cam ? t.vector(vs->dpdy) : vs->dpdy;
+    const Vec3 dpdx = cam ? t.vector(vs->dpdx) : vs->dpdx,
+               dpdy = cam ? t.vector(vs->dpdy) : vs->dpdy;
     for (int c = 0; c < 3; ++c) {
         a[kP + c] += weight * p[c];
         a[kN + c] += weight * n[c];
@@ -201,11 +211,7 @@ Image Film::output_image() const {
     if (m_p.kind == FilmKind::Rgb) return img;
     std::vector<std::string> names = {"R", "G", "B"};
     if (m_p.kind == FilmKind::GBuffer) {
-        for (const char* n : {"Albedo.R", "Albedo.G", "Albedo.B", "P.X", "P.Y", "P.Z", "dzdx",
-                              "dzdy", "N.X", "N.Y", "N.Z", "Ns.X", "Ns.Y", "Ns.Z", "u", "v",
-                              "Variance.R", "Variance.G", "Variance.B", "RelativeVariance.R",
-                              "RelativeVariance.G", "RelativeVariance.B"})
-            names.emplace_back(n);
+        for (const char* n : gbuffer::kChannels) names.emplace_back(n);
     } else {
         // pbrt-v4 names a bucket by its centre in nm, to three decimals, with ',' for the
         // decimal point ('.' separates the layers of an EXR file's channel names).
@@ -215,8 +221,7 @@ Image Film::output_image() const {
             std::replace(l.begin(), l.end(), '.', ',');
             names.push_back("S0." + l);
         }
-        img.attributes = {{"spectralLayoutVersion", "1.0"},
-                          {"emissiveUnits", "W.m^-2.sr^-1"}};
+        img.attributes = {{"spectralLayoutVersion", "1.0"}, {"emissiveUnits", "W.m^-2.sr^-1"}};
     }
     const int nc = int(names.size());
     std::vector<float> data(size_t(img.width) * img.height * nc);
@@ -282,8 +287,7 @@ std::vector<double> Film::luminance() const {
     const auto& w = m_p.luminance_from_sensor;
     for (size_t i = 0; i < m_pixels.size(); ++i) {
         const PixelSum& p = m_pixels[i];
-        y[i] = p.weight != 0 ? (w[0] * p.xyz[0] + w[1] * p.xyz[1] + w[2] * p.xyz[2]) / p.weight
-                             : 0;
+        y[i] = p.weight != 0 ? (w[0] * p.xyz[0] + w[1] * p.xyz[1] + w[2] * p.xyz[2]) / p.weight : 0;
     }
     return y;
 }

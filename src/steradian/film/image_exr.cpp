@@ -14,8 +14,8 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
-#include <stdexcept>
 #include <fstream>
+#include <stdexcept>
 #include <vector>
 
 #include "steradian/core/error.h"
@@ -108,7 +108,7 @@ void write_exr(const std::string& file, const std::string& path, const Image& im
         const size_t ys = xs * size_t(img.width);
         Imf::FrameBuffer fb;
         for (int c = 0; c < img.channels; ++c) {
-            const char* name = named ? img.channel_names[size_t(c)].c_str()
+            const char* name = named   ? img.channel_names[size_t(c)].c_str()
                                : names ? names[c]
                                        : "Y";
             header.channels().insert(name, Imf::Channel(type));
@@ -213,8 +213,8 @@ Image read_exr_channels(const std::string& path) {
             const Imf::Channel& ch = it.channel();
             if ((ch.type != Imf::HALF && ch.type != Imf::FLOAT) || ch.xSampling != 1 ||
                 ch.ySampling != 1)
-                throw Error(fmt::format("{}: channel {} is not of half or float pixels", path,
-                                        it.name()));
+                throw Error(
+                    fmt::format("{}: channel {} is not of half or float pixels", path, it.name()));
             img.channel_names.emplace_back(it.name());
         }
         for (auto it = h.begin(); it != h.end(); ++it)

@@ -84,7 +84,8 @@ Matrix3 multiply(const Matrix3& a, const Matrix3& b) {
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
             double s = 0;
-            for (int k = 0; k < 3; ++k) s += double(a[size_t(i)][size_t(k)]) * b[size_t(k)][size_t(j)];
+            for (int k = 0; k < 3; ++k)
+                s += double(a[size_t(i)][size_t(k)]) * b[size_t(k)][size_t(j)];
             r[size_t(i)][size_t(j)] = Float(s);
         }
     return r;

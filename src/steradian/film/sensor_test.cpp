@@ -32,10 +32,10 @@ double curve_integral(const PiecewiseLinearSpectrum& c, const std::function<doub
 TEST(CameraSensors, EveryNameOfPbrtV4HasThreeCurvesAndNamedSpectra) {
     // pbrt-v4's list (src/pbrt/util/spectrum.cpp, the camera tables).
     const char* const expected[] = {
-        "canon_eos_100d",     "canon_eos_1dx_mkii", "canon_eos_200d",     "canon_eos_200d_mkii",
-        "canon_eos_5d",       "canon_eos_5d_mkii",  "canon_eos_5d_mkiii", "canon_eos_5d_mkiv",
-        "canon_eos_5ds",      "canon_eos_m",        "hasselblad_l1d_20c", "nikon_d810",
-        "nikon_d850",         "sony_ilce_6400",     "sony_ilce_7m3",      "sony_ilce_7rm3",
+        "canon_eos_100d", "canon_eos_1dx_mkii", "canon_eos_200d",     "canon_eos_200d_mkii",
+        "canon_eos_5d",   "canon_eos_5d_mkii",  "canon_eos_5d_mkiii", "canon_eos_5d_mkiv",
+        "canon_eos_5ds",  "canon_eos_m",        "hasselblad_l1d_20c", "nikon_d810",
+        "nikon_d850",     "sony_ilce_6400",     "sony_ilce_7m3",      "sony_ilce_7rm3",
         "sony_ilce_9"};
     EXPECT_EQ(camera_sensor_names().size(), std::size(expected));
     for (const char* name : expected) {

@@ -160,8 +160,7 @@ RenderStats get_render_state(const Checkpoint& c, Film& film) {
         throw Error(fmt::format("checkpoint {}: a film of {} pixels, this one has {}", c.path(),
                                 c.get_u64("film-pixels"), n));
     film.set_sums(c.get_array<PixelSum>("film", n));
-    if (film.has_aux())
-        film.set_aux_sums(c.get_array<double>("film-aux", film.aux_sums().size()));
+    if (film.has_aux()) film.set_aux_sums(c.get_array<double>("film-aux", film.aux_sums().size()));
     RenderStats st;
     const uint64_t spp = c.get_u64("spp");
     if (spp > uint64_t(kMaxSamplesPerPixel))

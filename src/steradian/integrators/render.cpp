@@ -90,8 +90,8 @@ void visible_differentials(const Camera& camera, Point2 p_film, Point2 u_lens, F
 }
 
 /// Samples [first, first + n) of `pixel` (n <= SamplePacket::kSize), added to `pass`.
-void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel,
-                   int first, int n, std::vector<PixelSum>& pass, std::vector<double>& aux) {
+void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel, int first,
+                   int n, std::vector<PixelSum>& pass, std::vector<double>& aux) {
     Sampler& sampler = *ts.sampler;
     SamplePacket& p = *ts.packet;
     const bool thin_lens = scene.camera->uses_lens_sample();
@@ -109,9 +109,8 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
     unsigned pending = 0;
     for (int k = 0; k < n; ++k) {
         sampler.start_pixel_sample(pixel, first + k, kCameraDimensions);
-        p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k],
-                              sampler, ts.counters, &p.shadow[k],
-                              visible ? &p.visible[k] : nullptr);
+        p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k], sampler,
+                              ts.counters, &p.shadow[k], visible ? &p.visible[k] : nullptr);
         if (visible && p.visible[k].set)
             visible_differentials(*scene.camera, p.p_film[k], p.u_lens[k], ts.differential_scale,
                                   p.visible[k]);

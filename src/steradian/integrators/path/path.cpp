@@ -145,8 +145,9 @@ private:
             const Point2 u((Float(i % 4) + 0.5f) / 4, (Float(i / 4) + 0.5f) / 4);
             auto bs = bsdf.sample(hit.wo, (Float(r) + 0.5f) / kRho, u);
             if (!bs || !(bs->pdf_sa > 0 || bs->cos_over_pdf > 0)) continue;
-            v.albedo += bs->f * (bs->cos_over_pdf > 0 ? bs->cos_over_pdf
-                                                      : absdot(bs->wi, bsdf.frame().n) / bs->pdf_sa);
+            v.albedo +=
+                bs->f * (bs->cos_over_pdf > 0 ? bs->cos_over_pdf
+                                              : absdot(bs->wi, bsdf.frame().n) / bs->pdf_sa);
         }
         v.albedo *= Float(1) / kRho;
         m_visible = nullptr;
@@ -256,9 +257,8 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
 }
 
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
-                             SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, DeferredShadowRay* first_shadow,
-                             VisibleSurface* visible) {
+                             SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                             DeferredShadowRay* first_shadow, VisibleSurface* visible) {
     PathState path(scene, lambda, sampler, counters, PathLimits{});
     if (first_shadow) first_shadow->pending = false;
     path.defer_first_shadow(first_shadow);

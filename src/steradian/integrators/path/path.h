@@ -64,8 +64,8 @@ struct DeferredShadowRay {
 /// `visible`, the first surface that scatters is recorded there (its `set` false if none;
 /// dpdx and dpdy are left to the caller).
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
-                             SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, DeferredShadowRay* first_shadow = nullptr,
+                             SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                             DeferredShadowRay* first_shadow = nullptr,
                              VisibleSurface* visible = nullptr);
 
 /// Radiance leaving `vertex` towards vertex.wo, scattered by `bsdf` there (a surface the

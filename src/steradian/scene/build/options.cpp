@@ -1,7 +1,7 @@
 /// The options block: colour space, film, camera, pixel filter, sampler and integrator.
-#include <map>
-
 #include <fmt/ranges.h>
+
+#include <map>
 
 #include "steradian/film/sensor.h"
 #include "steradian/scene/build/builder.h"
