@@ -42,7 +42,6 @@ std::array<std::array<Float, 3>, 3> srgb_from_xyz_white_balanced(Float sx, Float
                                {0.4323053, 0.5183603, 0.0492912},
                                {-0.0085287, 0.0400428, 0.9684867}};
     auto xyz_of = [](double x, double y) { return std::array<double, 3>{x / y, 1, (1 - x - y) / y}; };
-    };
     auto src = xyz_of(sx, sy), dst = xyz_of(0.3127, 0.3290);
     double ls[3], ld[3];
     for (int i = 0; i < 3; ++i) {
