@@ -350,7 +350,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     std::vector<std::string>& outs = a.outs;
     if (outs.empty()) outs.push_back(scene.film.filename);
     // Every output is checked before rendering, not found unwritable after it.
-    for (const std::string& out : outs) sr::check_image_output(out);
+    for (const std::string& out : outs) sr::check_image_output(out, scene.film.output_channels());
     if (!a.luminance_out.empty()) sr::check_image_output(a.luminance_out, 1);
     if (!a.falsecolor_out.empty()) sr::check_image_output(a.falsecolor_out);
     if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
@@ -406,7 +406,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     sr::WriteOptions wo;
     wo.exposure = exposure;
     wo.half_float = scene.film.half_float;
-    sr::Image image = film.rgb_image();
+    sr::Image image = film.output_image();
     for (const std::string& out : outs) {
         sr::write_image(out, image, wo);
         if (!quiet)

@@ -137,6 +137,20 @@ check "impossible output directory fails before rendering" test $? -ne 0 -a $((S
 check "impossible output directory is named" grep -q "cannot create the directory" "$tmp/dir.txt"
 "$bin" "${slow[@]}" -o "$tmp/ok.exr" --luminance "$tmp/y.png" > "$tmp/lum.txt" 2>&1
 check "single-channel --luminance to PNG fails before rendering" test $? -ne 0
+# A gbuffer or spectral film writes EXR only: another -o extension fails before rendering.
+sed 's/Film "rgb"/Film "gbuffer"/' "$tmp/small.pbrt" > "$tmp/gbuffer.pbrt"
+start=$SECONDS
+"$bin" render "$tmp/gbuffer.pbrt" --spp 1000000 -o "$tmp/g.png" > "$tmp/g.txt" 2>&1
+check "gbuffer film to PNG fails before rendering" test $? -ne 0 -a $((SECONDS - start)) -lt 20
+check "gbuffer film to PNG says EXR only" grep -q "channels: .exr only" "$tmp/g.txt"
+"$bin" render "$tmp/gbuffer.pbrt" -o "$tmp/g.exr" --quiet
+check "gbuffer film writes an EXR" test -s "$tmp/g.exr"
+"$bin" render "$tmp/gbuffer.pbrt" -o "$tmp/g1.exr" --threads 1 --quiet
+check "gbuffer channels do not depend on the thread count" cmp -s "$tmp/g.exr" "$tmp/g1.exr"
+sed 's/Film "rgb"/Film "spectral"/' "$tmp/small.pbrt" > "$tmp/spectral.pbrt"
+"$bin" render "$tmp/spectral.pbrt" -o "$tmp/s2.exr" --threads 2 --quiet
+"$bin" render "$tmp/spectral.pbrt" -o "$tmp/s1.exr" --threads 1 --quiet
+check "spectral buckets do not depend on the thread count" cmp -s "$tmp/s1.exr" "$tmp/s2.exr"
 "$bin" render "$tmp/small.pbrt" -o "$tmp/new/dir/x.exr" --quiet
 check "a missing output directory is created" test -s "$tmp/new/dir/x.exr"
 "$bin" measure "$tmp/meters.pbrt" --json "$tmp/afile/m.json" > "$tmp/mj.txt" 2>&1

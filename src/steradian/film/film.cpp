@@ -2,10 +2,29 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "steradian/core/error.h"
 #include "steradian/spectrum/spectrum.h"
 
 namespace sr {
+
+namespace gbuffer {
+// Layout of a "gbuffer" film's auxiliary sums, per pixel: the weight of the samples that
+// found a surface, weighted sums of position, normal, shading normal, uv, dz/dx and dz/dy,
+// and albedo (linear sRGB), and for each sensor channel a variance estimator (count, mean,
+// sum of squared deviations).
+constexpr int kWeight = 0, kP = 1, kN = 4, kNs = 7, kUv = 10, kDz = 12, kAlbedo = 14,
+              kVariance = 17, kStride = 26;
+/// pbrt-v4's GBufferFilm channels after R, G, B, in its order.
+// clang-format off
+constexpr const char* kChannels[] = {
+    "Albedo.R", "Albedo.G", "Albedo.B", "P.X", "P.Y", "P.Z", "dzdx", "dzdy", "N.X", "N.Y",
+    "N.Z", "Ns.X", "Ns.Y", "Ns.Z", "u", "v", "Variance.R", "Variance.G", "Variance.B",
+    "RelativeVariance.R", "RelativeVariance.G", "RelativeVariance.B"};
+// clang-format on
+}  // namespace gbuffer
 
 std::array<std::array<Float, 3>, 3> srgb_from_xyz_matrix() {
     // IEC 61966-2-1 (sRGB), D65 white.
@@ -48,11 +67,90 @@ std::array<std::array<Float, 3>, 3> srgb_from_xyz_white_balanced(Float sx, Float
 }
 
 Film::Film(const FilmParams& p) : m_p(p), m_pixels(size_t(p.width()) * p.height()) {
-    // The three matching functions interleaved, so a sample costs one index computation.
-    const auto &X = cie_x(), &Y = cie_y(), &Z = cie_z();
+    // The three sensitivities interleaved, so a sample costs one index computation.
+    const std::array<Spectrum, 3> s =
+        p.sensor_rgb ? *p.sensor_rgb : std::array<Spectrum, 3>{cie_x(), cie_y(), cie_z()};
     for (int l = int(kLambdaMin); l <= int(kLambdaMax); ++l)
-        m_cmf.push_back(Float4{X(Float(l)), Y(Float(l)), Z(Float(l)), 0});
+        m_cmf.push_back(Float4{s[0](Float(l)), s[1](Float(l)), s[2](Float(l)), 0});
     m_cmf.push_back(Float4{0, 0, 0, 0});  // guard for interpolation at kLambdaMax
+    if (p.kind == FilmKind::GBuffer) m_aux_stride = gbuffer::kStride;
+    if (p.kind == FilmKind::Spectral) m_aux_stride = 2 * size_t(p.buckets);
+    m_aux.assign(m_pixels.size() * m_aux_stride, 0.0);
+}
+
+void Film::set_aux_sums(std::vector<double> sums) {
+    if (sums.size() != m_aux.size())
+        throw Error(
+            fmt::format("film: {} auxiliary sums for a film of {}", sums.size(), m_aux.size()));
+    m_aux = std::move(sums);
+}
+
+void Film::add_aux(std::vector<double>& aux, int x, int y, const SampledSpectrum& L,
+                   const SampledWavelengths& lambda, const std::array<double, 3>& sensor,
+                   double weight, const VisibleSurface* vs) const {
+    double* a = aux.data() + (size_t(y - m_p.y0) * m_p.width() + (x - m_p.x0)) * m_aux_stride;
+    if (m_p.kind == FilmKind::Spectral) {
+        // pbrt-v4's SpectralFilm: the radiance of each wavelength (clamped as a whole to
+        // maxcomponentvalue), weighted, summed in its bucket with the weight; the wavelengths
+        // are uniform over the film's range, so a bucket's mean is the radiance averaged over
+        // it. Scaled by kCieYIntegral, as pbrt-v4 does to undo the photometric normalisation
+        // of lights. A wavelength of zero pdf (a secondary wavelength terminated at a
+        // dispersive interface) carries no estimate of its own radiance and is left out.
+        const Float m = L.max_value();
+        const double clamp = m > m_p.max_component ? m_p.max_component / m : 1.0;
+        const int n = m_p.buckets;
+        for (int i = 0; i < kSpectrumSamples; ++i) {
+            if (lambda.pdf[i] == 0) continue;
+            int b =
+                int(n * (lambda.lambda[i] - m_p.lambda_min) / (m_p.lambda_max - m_p.lambda_min));
+            b = std::clamp(b, 0, n - 1);
+            a[b] += weight * clamp * double(L[i]) * kCieYIntegral;
+            a[n + b] += weight;
+        }
+        return;
+    }
+    // gbuffer: the variance of the sensor values of the samples that found a surface
+    // (pbrt-v4's VarianceEstimator, unweighted, by Welford's update).
+    using namespace gbuffer;
+    if (!vs || !vs->set) return;
+    for (int c = 0; c < 3; ++c) {
+        double* v = a + kVariance + 3 * c;  // count, mean, sum of squared deviations
+        v[0] += 1;
+        const double d = sensor[size_t(c)] - v[1];
+        v[1] += d / v[0];
+        v[2] += d * (sensor[size_t(c)] - v[1]);
+    }
+    a[kWeight] += weight;
+    const bool cam = m_p.gbuffer_camera_space;
+    const Transform& t = m_p.camera_from_world;
+    const Point3 p = cam ? t.point(vs->p) : vs->p;
+    const Normal3 n = cam ? t.normal(vs->n) : vs->n, ns = cam ? t.normal(vs->ns) : vs->ns;
+    const Vec3 dpdx = cam ? t.vector(vs->dpdx) : vs->dpdx,
+               dpdy = cam ? t.vector(vs->dpdy) : vs->dpdy;
+    for (int c = 0; c < 3; ++c) {
+        a[kP + c] += weight * p[c];
+        a[kN + c] += weight * n[c];
+        a[kNs + c] += weight * ns[c];
+    }
+    a[kUv] += weight * vs->uv.x;
+    a[kUv + 1] += weight * vs->uv.y;
+    a[kDz] += weight * dpdx.z;
+    a[kDz + 1] += weight * dpdy.z;
+    // The albedo as the colour of a reflectance under the colour space's white (D65):
+    // linear sRGB of the XYZ of albedo x D65 (Y of D65 = 1), estimated at the wavelengths.
+    double xyz[3] = {0, 0, 0};
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+        if (lambda.pdf[i] == 0) continue;
+        const Float l = lambda.lambda[i];
+        const double s = double(vs->albedo[i]) * srgb_illuminant()(l) / lambda.pdf[i] /
+                         (kSpectrumSamples * double(kCieYIntegral));
+        xyz[0] += s * cie_x()(l);
+        xyz[1] += s * cie_y()(l);
+        xyz[2] += s * cie_z()(l);
+    }
+    const auto rgb = srgb_from_xyz_matrix();
+    for (int c = 0; c < 3; ++c)
+        a[kAlbedo + c] += weight * (rgb[c][0] * xyz[0] + rgb[c][1] * xyz[1] + rgb[c][2] * xyz[2]);
 }
 
 std::array<double, 3> Film::to_sensor(const SampledSpectrum& L,
@@ -107,6 +205,64 @@ void Film::set_sums(std::vector<PixelSum> sums) {
     m_pixels = std::move(sums);
 }
 
+Image Film::output_image() const {
+    Image img = rgb_image();
+    if (m_p.kind == FilmKind::Rgb) return img;
+    std::vector<std::string> names = {"R", "G", "B"};
+    if (m_p.kind == FilmKind::GBuffer) {
+        for (const char* n : gbuffer::kChannels) names.emplace_back(n);
+    } else {
+        // pbrt-v4 names a bucket by its centre in nm, to three decimals, with ',' for the
+        // decimal point ('.' separates the layers of an EXR file's channel names).
+        for (int b = 0; b < m_p.buckets; ++b) {
+            std::string l = fmt::format(
+                "{:.3f}nm", lerp((b + 0.5f) / m_p.buckets, m_p.lambda_min, m_p.lambda_max));
+            std::replace(l.begin(), l.end(), '.', ',');
+            names.push_back("S0." + l);
+        }
+        img.attributes = {{"spectralLayoutVersion", "1.0"}, {"emissiveUnits", "W.m^-2.sr^-1"}};
+    }
+    const int nc = int(names.size());
+    std::vector<float> data(size_t(img.width) * img.height * nc);
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        float* out = data.data() + i * nc;
+        for (int c = 0; c < 3; ++c) out[c] = img.data[i * 3 + c];
+        const double* a = m_aux.data() + i * m_aux_stride;
+        if (m_p.kind == FilmKind::Spectral) {
+            for (int b = 0; b < m_p.buckets; ++b)
+                out[3 + b] = a[m_p.buckets + b] > 0 ? float(a[b] / a[m_p.buckets + b]) : 0.f;
+            continue;
+        }
+        using namespace gbuffer;
+        // As pbrt-v4's GBufferFilm: the albedo over all samples' weight, the geometry over
+        // the weight of the samples that found a surface, normals normalised, depth slopes
+        // as magnitudes.
+        const double w = m_pixels[i].weight, wg = a[kWeight];
+        const double kw = w != 0 ? 1 / w : 0, kg = wg != 0 ? 1 / wg : 0;
+        for (int c = 0; c < 3; ++c) out[3 + c] = float(a[kAlbedo + c] * kw);
+        for (int c = 0; c < 3; ++c) out[6 + c] = float(a[kP + c] * kg);
+        out[9] = float(std::abs(a[kDz] * kg));
+        out[10] = float(std::abs(a[kDz + 1] * kg));
+        for (int k : {0, 1}) {
+            const double* v = a + (k ? kNs : kN);
+            const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            for (int c = 0; c < 3; ++c) out[11 + 3 * k + c] = len > 0 ? float(v[c] / len) : 0.f;
+        }
+        out[17] = float(a[kUv] * kg);
+        out[18] = float(a[kUv + 1] * kg);
+        for (int c = 0; c < 3; ++c) {
+            const double* v = a + kVariance + 3 * c;
+            const double var = v[0] > 1 ? v[2] / (v[0] - 1) : 0;
+            out[19 + c] = float(var);
+            out[22 + c] = v[0] >= 1 && v[1] != 0 ? float(var / v[1]) : 0.f;
+        }
+    }
+    img.channels = nc;
+    img.data = std::move(data);
+    img.channel_names = std::move(names);
+    return img;
+}
+
 Image Film::rgb_image() const {
     Image img;
     img.width = m_p.width();
@@ -127,8 +283,11 @@ Image Film::rgb_image() const {
 
 std::vector<double> Film::luminance() const {
     std::vector<double> y(m_pixels.size());
-    for (size_t i = 0; i < m_pixels.size(); ++i)
-        y[i] = m_pixels[i].weight != 0 ? m_pixels[i].xyz[1] / m_pixels[i].weight : 0;
+    const auto& w = m_p.luminance_from_sensor;
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const PixelSum& p = m_pixels[i];
+        y[i] = p.weight != 0 ? (w[0] * p.xyz[0] + w[1] * p.xyz[1] + w[2] * p.xyz[2]) / p.weight : 0;
+    }
     return y;
 }
 

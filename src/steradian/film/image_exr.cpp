@@ -7,14 +7,15 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStringAttribute.h>
 
 #include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <exception>
-#include <stdexcept>
 #include <fstream>
+#include <stdexcept>
 #include <vector>
 
 #include "steradian/core/error.h"
@@ -84,11 +85,15 @@ private:
 
 void write_exr(const std::string& file, const std::string& path, const Image& img,
                bool half_float) {
-    if (img.channels != 3 && img.channels != 1)
+    const bool named = !img.channel_names.empty();
+    if (named ? img.channel_names.size() != size_t(img.channels)
+              : img.channels != 3 && img.channels != 1)
         throw Error(fmt::format("{}: cannot write {} channels to EXR", path, img.channels));
     try {
         Imf::Header header(img.width, img.height);
         header.compression() = Imf::ZIP_COMPRESSION;
+        for (const auto& [name, value] : img.attributes)
+            header.insert(name, Imf::StringAttribute(value));
         const Imf::PixelType type = half_float ? Imf::HALF : Imf::FLOAT;
         static const char* const rgb[] = {"R", "G", "B"};
         const char* const* names = img.channels == 3 ? rgb : nullptr;
@@ -103,7 +108,9 @@ void write_exr(const std::string& file, const std::string& path, const Image& im
         const size_t ys = xs * size_t(img.width);
         Imf::FrameBuffer fb;
         for (int c = 0; c < img.channels; ++c) {
-            const char* name = names ? names[c] : "Y";
+            const char* name = named   ? img.channel_names[size_t(c)].c_str()
+                               : names ? names[c]
+                                       : "Y";
             header.channels().insert(name, Imf::Channel(type));
             fb.insert(name, Imf::Slice(type, const_cast<char*>(pixels + value_size * size_t(c)),
                                        xs, ys));
@@ -192,3 +199,48 @@ std::optional<Image> read_exr(const std::string& path) {
 }
 
 }  // namespace sr::image_formats
+
+namespace sr {
+
+Image read_exr_channels(const std::string& path) {
+    try {
+        Imf::InputFile in(path.c_str(), 1);
+        const Imf::Header& h = in.header();
+        const Imath::Box2i dw = h.dataWindow();
+        const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, ht = int64_t(dw.max.y) - dw.min.y + 1;
+        Image img;
+        for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+            const Imf::Channel& ch = it.channel();
+            if ((ch.type != Imf::HALF && ch.type != Imf::FLOAT) || ch.xSampling != 1 ||
+                ch.ySampling != 1)
+                throw Error(
+                    fmt::format("{}: channel {} is not of half or float pixels", path, it.name()));
+            img.channel_names.emplace_back(it.name());
+        }
+        for (auto it = h.begin(); it != h.end(); ++it)
+            if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+                img.attributes.emplace_back(it.name(), a->value());
+        img.channels = int(img.channel_names.size());
+        if (w <= 0 || ht <= 0 || double(w) * double(ht) * img.channels > double(kMaxImageValues))
+            throw Error(fmt::format("{}: {} x {} pixels of {} channels: more than {} values", path,
+                                    w, ht, img.channels, kMaxImageValues));
+        img.width = int(w);
+        img.height = int(ht);
+        img.data.resize(size_t(w) * size_t(ht) * size_t(img.channels));
+        const size_t xs = sizeof(float) * size_t(img.channels), ys = xs * size_t(w);
+        char* base = reinterpret_cast<char*>(img.data.data());
+        Imf::FrameBuffer fb;
+        for (int c = 0; c < img.channels; ++c)
+            fb.insert(img.channel_names[size_t(c)],
+                      Imf::Slice::Make(Imf::FLOAT, base + sizeof(float) * size_t(c), dw, xs, ys));
+        in.setFrameBuffer(fb);
+        in.readPixels(dw.min.y, dw.max.y);
+        return img;
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(fmt::format("{}: cannot read EXR: {}", path, e.what()));
+    }
+}
+
+}  // namespace sr

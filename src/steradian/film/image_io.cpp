@@ -236,9 +236,9 @@ bool openimageio_forced() { return g_force_openimageio; }
 
 void check_image_output(const std::string& path, int channels) {
     std::string ext = extension(path);
-    if (channels != 3 && !(channels == 1 && ext == ".exr"))
-        throw Error(fmt::format("{}: expected an RGB image{}", path,
-                                channels == 1 ? " (single-channel images: .exr only)" : ""));
+    if (channels != 3 && ext != ".exr")
+        throw Error(fmt::format("{}: expected an RGB image (images of {} channels: .exr only)",
+                                path, channels));
     if (!written_directly(ext) && !openimageio(path, false).can_write(path.c_str()))
         throw Error(fmt::format("{}: unknown image format \"{}\" (use .exr, .pfm or .png)", path,
                                 ext));
@@ -247,6 +247,8 @@ void check_image_output(const std::string& path, int channels) {
 
 void write_image(const std::string& path, const Image& img, const WriteOptions& opts) {
     check_image_output(path, img.channels);
+    if (!img.channel_names.empty() && extension(path) != ".exr")
+        throw Error(fmt::format("{}: named channels can be written to .exr only", path));
     write_file_atomically(path, [&](const std::string& tmp) { write_image_file(tmp, path, img, opts); });
 }
 

@@ -145,6 +145,7 @@ Checkpoint Checkpoint::load(const std::string& path) {
 void put_render_state(Checkpoint& c, const Film& film, const RenderStats& st) {
     c.set_array("film", film.sums());
     c.set_number("film-pixels", uint64_t(film.sums().size()));
+    if (film.has_aux()) c.set_array("film-aux", film.aux_sums());
     c.set_number("spp", uint64_t(st.spp));
     c.set_number("wall-seconds", st.wall_seconds);
     c.set_number("cpu-seconds", st.cpu_seconds);
@@ -159,6 +160,7 @@ RenderStats get_render_state(const Checkpoint& c, Film& film) {
         throw Error(fmt::format("checkpoint {}: a film of {} pixels, this one has {}", c.path(),
                                 c.get_u64("film-pixels"), n));
     film.set_sums(c.get_array<PixelSum>("film", n));
+    if (film.has_aux()) film.set_aux_sums(c.get_array<double>("film-aux", film.aux_sums().size()));
     RenderStats st;
     const uint64_t spp = c.get_u64("spp");
     if (spp > uint64_t(kMaxSamplesPerPixel))

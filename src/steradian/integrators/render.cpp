@@ -52,13 +52,14 @@ using Clock = std::chrono::steady_clock;
 struct SamplePacket {
     static constexpr int kSize = Scene::kRayPacket;
     Ray rays[kSize];
-    Point2 p_film[kSize], u_lens[kSize];
     SurfaceHit hits[kSize];
     FilterSample filter[kSize];
     SampledWavelengths lambda[kSize];
     SampledSpectrum L[kSize];
     DeferredShadowRay shadow[kSize];
     Ray shadow_rays[kSize];
+    Point2 p_film[kSize], u_lens[kSize];
+    VisibleSurface visible[kSize];  ///< for films that use it (gbuffer)
 };
 
 struct ThreadState {
@@ -71,25 +72,42 @@ struct ThreadState {
     Float footprint_scale = 0;
     /// Scratch space of render_packet (kept per thread: its hit records are large).
     std::unique_ptr<SamplePacket> packet = std::make_unique<SamplePacket>();
+    /// pbrt-v4 scales camera ray differentials by max(1/8, 1/sqrt(samples per pixel)).
+    Float differential_scale = 1;
 };
 
+/// A visible surface's change of position over one pixel in x and y (pbrt-v4's ray
+/// differentials, scaled): where the camera rays through the neighbouring raster positions
+/// meet the surface's tangent plane.
+void visible_differentials(const Camera& camera, Point2 p_film, Point2 u_lens, Float scale,
+                           VisibleSurface& v) {
+    auto offset = [&](Vec2 d) {
+        const Ray r = camera.generate_ray(Point2(p_film.x + d.x, p_film.y + d.y), u_lens);
+        const Float den = dot(v.n, r.d);
+        if (den == 0) return Vec3(0, 0, 0);
+        const Float t = dot(v.n, v.p - r.o) / den;
+        return std::isfinite(t) ? (r.o + r.d * t - v.p) * scale : Vec3(0, 0, 0);
+    };
+    v.dpdx = offset(Vec2(1, 0));
+    v.dpdy = offset(Vec2(0, 1));
+}
+
 /// Samples [first, first + n) of `pixel` (n <= SamplePacket::kSize), added to `pass`.
-void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel,
-                   int first, int n, std::vector<PixelSum>& pass) {
+void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel, int first,
+                   int n, std::vector<PixelSum>& pass, std::vector<double>& aux) {
     Sampler& sampler = *ts.sampler;
     SamplePacket& p = *ts.packet;
     const bool thin_lens = scene.camera->uses_lens_sample();
     for (int k = 0; k < n; ++k) {
         sampler.start_pixel_sample(pixel, first + k);
         p.filter[k] = scene.filter->sample(sampler.get_pixel_2d());
-        p.lambda[k] = SampledWavelengths::sample_visible(sampler.get_pixel_1d());
-        const Point2 u_lens = thin_lens ? sampler.get_2d() : Point2(0.5f, 0.5f);
-        const Point2 p_film(Float(pixel.x) + 0.5f + p.filter[k].offset.x,
-                            Float(pixel.y) + 0.5f + p.filter[k].offset.y);
-        p.rays[k] = scene.camera->generate_ray(p_film, u_lens);
-        p.p_film[k] = p_film;
-        p.u_lens[k] = u_lens;
+        p.lambda[k] = film.sample_wavelengths(sampler.get_pixel_1d());
+        p.u_lens[k] = thin_lens ? sampler.get_2d() : Point2(0.5f, 0.5f);
+        p.p_film[k] = Point2(Float(pixel.x) + 0.5f + p.filter[k].offset.x,
+                             Float(pixel.y) + 0.5f + p.filter[k].offset.y);
+        p.rays[k] = scene.camera->generate_ray(p.p_film[k], p.u_lens[k]);
     }
+    const bool visible = film.uses_visible_surface();
     const unsigned found = scene.intersect_packet(p.rays, (1u << n) - 1, p.hits);
     if (ts.footprint_scale > 0) {
         for (int k = 0; k < n; ++k) {
@@ -103,8 +121,12 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
     unsigned pending = 0;
     for (int k = 0; k < n; ++k) {
         sampler.start_pixel_sample(pixel, first + k, kCameraDimensions);
-        p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k],
-                              sampler, ts.counters, &p.shadow[k], ts.footprint_scale);
+        p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k], sampler,
+                              ts.counters, &p.shadow[k], visible ? &p.visible[k] : nullptr,
+                              ts.footprint_scale);
+        if (visible && p.visible[k].set)
+            visible_differentials(*scene.camera, p.p_film[k], p.u_lens[k], ts.differential_scale,
+                                  p.visible[k]);
         p.shadow_rays[k] = p.shadow[k].ray;
         pending |= unsigned(p.shadow[k].pending) << k;
     }
@@ -127,6 +149,9 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
         }
         ++ts.paths;
         film.add(pass, pixel.x, pixel.y, xyz, p.filter[k].weight);
+        if (film.has_aux())
+            film.add_aux(aux, pixel.x, pixel.y, finite ? L : SampledSpectrum(0), p.lambda[k], xyz,
+                         p.filter[k].weight, visible ? &p.visible[k] : nullptr);
     }
 }
 
@@ -214,6 +239,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         s.sampler = proto->clone();
         if (scene.texture_footprints)
             s.footprint_scale = std::max(Float(0.125), 1 / std::sqrt(Float(total_spp)));
+        s.differential_scale = std::max(0.125f, 1 / std::sqrt(Float(total_spp)));
         return s;
     });
 
@@ -289,6 +315,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         const int s0 = done;
         const double pass_t0 = elapsed();
         std::vector<PixelSum> pass = film.sums();
+        std::vector<double> aux = film.aux_sums();
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range2d<int>(fp.y0, fp.y1, kTile, fp.x0, fp.x1, kTile),
@@ -307,7 +334,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                             for (int sb = s0; sb < s1;) {
                                 const int se =
                                     std::min(s1, (sb / SamplePacket::kSize + 1) * SamplePacket::kSize);
-                                render_packet(scene, film, ts, pixel, sb, se - sb, pass);
+                                render_packet(scene, film, ts, pixel, sb, se - sb, pass, aux);
                                 sb = se;
                             }
                         }
@@ -319,6 +346,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
             break;
         }
         film.set_sums(std::move(pass));
+        film.set_aux_sums(std::move(aux));
         done = s1;
         seconds_per_spp = (elapsed() - pass_t0) / double(s1 - s0);
         pass_size = std::min(pass_size * 2, kMaxPassSpp);

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "steradian/core/error.h"
+#include "steradian/spectrum/camera_sensors.h"
 #include "steradian/spectrum/cie_data.h"
 #include "steradian/spectrum/spectrum.h"
 
@@ -378,6 +379,12 @@ NamedMap build_named_spectra() {
     m["metal-MgO-k"] = ConstantSpectrum{0};
     m["metal-TiO2-eta"] = dense_from_function(tio2_index);
     m["metal-TiO2-k"] = ConstantSpectrum{0};
+    // Camera sensitivities ("canon_eos_100d_r", ...), as pbrt-v4 names them (camera_sensors.h).
+    for (const std::string& cam : camera_sensor_names()) {
+        const auto curves = *camera_sensor_curves(cam);
+        for (int c = 0; c < 3; ++c)
+            m[cam + "_" + "rgb"[c]] = densely_sampled(Spectrum(curves[size_t(c)]));
+    }
     return m;
 }
 

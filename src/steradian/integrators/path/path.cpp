@@ -49,6 +49,8 @@ public:
         m_footprint_scale = scale;
         m_first_footprint = scale > 0;
     }
+    /// Records the first surface that scatters in `v` (path_li_from).
+    void record_visible(VisibleSurface* v) { m_visible = v; }
 
     /// Follows `ray` until the path ends.
     void trace(Ray ray) {
@@ -81,6 +83,7 @@ public:
                 hit.material >= 0
                     ? make_bsdf(m_scene.materials[hit.material], m_mctx, hit, m_lambda)
                     : std::nullopt;
+            if (m_visible && bsdf && m_depth == 0) visible(hit, *bsdf);
             if (!bsdf) {
                 // Interface: continue straight through without counting a bounce (bounded,
                 // in case a degenerate surface keeps returning the same hit).
@@ -136,6 +139,33 @@ public:
 
 private:
     bool counted() const { return m_depth >= m_min_vertices; }
+
+    /// pbrt-v4's VisibleSurface of the first scattering vertex (its dpdx, dpdy are the
+    /// renderer's): the normals facing wo, and the BSDF's directional albedo estimated from 16
+    /// fixed stratified samples (exact for a Lambertian lobe, whose every cosine-weighted
+    /// sample weighs its reflectance).
+    void visible(const SurfaceHit& hit, const Bsdf& bsdf) {
+        VisibleSurface& v = *m_visible;
+        v.set = true;
+        v.p = hit.p;
+        v.n = face_forward(hit.ng, hit.wo);
+        v.ns = face_forward(bsdf.frame().n, hit.wo);
+        v.uv = hit.uv;
+        v.albedo = SampledSpectrum(0);
+        constexpr int kRho = 16;
+        for (int i = 0; i < kRho; ++i) {
+            // The 4 x 4 stratum centres, with the lobe choice by the bit-reversed index.
+            const int r = ((i & 1) << 3) | ((i & 2) << 1) | ((i & 4) >> 1) | ((i & 8) >> 3);
+            const Point2 u((Float(i % 4) + 0.5f) / 4, (Float(i / 4) + 0.5f) / 4);
+            auto bs = bsdf.sample(hit.wo, (Float(r) + 0.5f) / kRho, u);
+            if (!bs || !(bs->pdf_sa > 0 || bs->cos_over_pdf > 0)) continue;
+            v.albedo +=
+                bs->f * (bs->cos_over_pdf > 0 ? bs->cos_over_pdf
+                                              : absdot(bs->wi, bsdf.frame().n) / bs->pdf_sa);
+        }
+        v.albedo *= Float(1) / kRho;
+        m_visible = nullptr;
+    }
 
     /// Weight of emission reached by the last BSDF sample against light sampling.
     Float hit_weight(Float p_light) const {
@@ -230,6 +260,7 @@ private:
     DeferredShadowRay* m_first_shadow = nullptr;
     Float m_footprint_scale = 0;
     bool m_first_footprint = false;  ///< the current hit is the camera ray's, footprint set
+    VisibleSurface* m_visible = nullptr;
 };
 
 }  // namespace
@@ -251,7 +282,7 @@ SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda,
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
                              SampledWavelengths& lambda, Sampler& sampler,
                              PathCounters& counters, DeferredShadowRay* first_shadow,
-                             Float footprint_scale) {
+                             VisibleSurface* visible, Float footprint_scale) {
     if (first_shadow) first_shadow->pending = false;
     if (scene.integrator.volumetric) {
         ++counters.rays;
@@ -260,6 +291,8 @@ SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, Sur
     PathState path(scene, lambda, sampler, counters, PathLimits{});
     path.defer_first_shadow(first_shadow);
     path.use_footprints(footprint_scale);
+    if (visible) visible->set = false;
+    path.record_visible(visible);
     ++counters.rays;
     path.trace(ray, found, hit);
     return path.L;

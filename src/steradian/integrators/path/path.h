@@ -20,6 +20,7 @@ struct PathCounters {
 
 class Bsdf;
 struct SurfaceHit;
+struct VisibleSurface;
 
 /// Which light paths count. A path's vertex count is its number of scattering vertices
 /// (emission seen directly by the camera: 0; a camera path's first bounce: 1; a meter's own
@@ -59,15 +60,17 @@ struct DeferredShadowRay {
 /// traced as packets): `hit` is that intersection if `found`, and is the path's hit record
 /// from then on. With `first_shadow`, the first vertex's light sample is left to the caller
 /// there (pending if it has a shadow ray to test) instead of being tested and added. The sum
-/// of the result and an unblocked deferred contribution is path_li(scene, ray, ...).
+/// of the result and an unblocked deferred contribution is path_li(scene, ray, ...). With
+/// `visible`, the first surface that scatters is recorded there (its `set` false if none;
+/// dpdx and dpdy are left to the caller).
 ///
 /// With footprint_scale > 0 (a scene whose textures filter by footprint), `hit` carries the
 /// camera ray's footprint (set_footprint_from_rays) and every later vertex gets the camera's
 /// approximate one (Camera::approximate_dp_dxy) at that scale.
 SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, SurfaceHit& hit,
-                             SampledWavelengths& lambda, Sampler& sampler,
-                             PathCounters& counters, DeferredShadowRay* first_shadow = nullptr,
-                             Float footprint_scale = 0);
+                             SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                             DeferredShadowRay* first_shadow = nullptr,
+                             VisibleSurface* visible = nullptr, Float footprint_scale = 0);
 
 /// Radiance leaving `vertex` towards vertex.wo, scattered by `bsdf` there (a surface the
 /// scene does not contain, e.g. a meter's ideal Lambertian receiver): the path starts with

@@ -1,7 +1,11 @@
 /// The options block: colour space, film, camera, pixel filter, sampler and integrator.
+#include <fmt/ranges.h>
+
 #include <map>
 
+#include "steradian/film/sensor.h"
 #include "steradian/scene/build/builder.h"
+#include "steradian/spectrum/camera_sensors.h"
 
 namespace sr::build_detail {
 
@@ -35,7 +39,13 @@ void Builder::build_options_block() {
 
 void Builder::build_film(const EntityDesc& f) {
     FilmParams fp;
-    if (!f.type.empty() && f.type != "rgb") unsupported(f, "Film");
+    const std::string type = f.type.empty() ? "rgb" : f.type;
+    if (type == "gbuffer")
+        fp.kind = FilmKind::GBuffer;
+    else if (type == "spectral")
+        fp.kind = FilmKind::Spectral;
+    else if (type != "rgb")
+        unsupported(f, "Film");
     const ParamSet& ps = f.params;
     fp.resolution = Vec2i(ps.get_int("xresolution", 1280), ps.get_int("yresolution", 720));
     if (fp.resolution.x <= 0 || fp.resolution.y <= 0)
@@ -47,6 +57,14 @@ void Builder::build_film(const EntityDesc& f) {
                     "pixels in all",
                     fp.resolution.x, fp.resolution.y, kMaxFilmSide, kMaxFilmPixels);
     fp.filename = ps.get_string("filename", "pbrt.exr");
+    if (fp.kind != FilmKind::Rgb &&
+        !(fp.filename.size() >= 4 && fp.filename.compare(fp.filename.size() - 4, 4, ".exr") == 0)) {
+        const Param* p = ps.find("filename");
+        throw_error(p ? p->loc : f.loc,
+                    "Film \"{}\": \"{}\": EXR is the only output format of this film (as in "
+                    "pbrt-v4): its channels are more than RGB",
+                    type, fp.filename);
+    }
     fp.x0 = 0;
     fp.x1 = fp.resolution.x;
     fp.y0 = 0;
@@ -82,22 +100,62 @@ void Builder::build_film(const EntityDesc& f) {
                                      f.type.empty() ? "rgb" : f.type, scale));
         m_exposure_iso *= scale;
     }
-    std::string sensor = ps.get_string("sensor", "cie1931");
-    if (sensor != "cie1931")
-        throw_unsupported(f.loc, "sensor \"{}\" is not supported yet (only \"cie1931\")", sensor);
+    // pbrt-v4's PixelSensor::Create: a camera sensor is white balanced for daylight of
+    // 6500 K unless told otherwise ("whitebalance" 0 too), the CIE sensor only when asked.
+    const std::string sensor = ps.get_string("sensor", "cie1931");
     Float wb = ps.get_float("whitebalance", 0);
-    if (wb > 0) {
-        // White balance from the CIE daylight illuminant of that temperature.
-        Xyz w = spectrum_to_xyz(cie_d_illuminant(wb));
-        Float sum = w.x + w.y + w.z;
-        fp.rgb_from_sensor = srgb_from_xyz_white_balanced(w.x / sum, w.y / sum);
+    if (wb < 0) throw_error(f.loc, "\"whitebalance\" must be >= 0 (kelvin; 0: none)");
+    if (sensor == "cie1931") {
+        if (wb > 0) {
+            // White balance from the CIE daylight illuminant of that temperature.
+            Xyz w = spectrum_to_xyz(cie_d_illuminant(wb));
+            Float sum = w.x + w.y + w.z;
+            fp.rgb_from_sensor = srgb_from_xyz_white_balanced(w.x / sum, w.y / sum);
+        } else {
+            fp.rgb_from_sensor = srgb_from_xyz_matrix();
+        }
     } else {
-        fp.rgb_from_sensor = srgb_from_xyz_matrix();
+        const auto curves = camera_sensor_curves(sensor);
+        if (!curves) {
+            const Param* p = ps.find("sensor");
+            throw_error(p ? p->loc : f.loc, "unknown sensor \"{}\": expected cie1931, {}", sensor,
+                        fmt::join(camera_sensor_names(), ", "));
+        }
+        if (wb == 0) wb = 6500;
+        fp.sensor_rgb = std::array<Spectrum, 3>{(*curves)[0], (*curves)[1], (*curves)[2]};
+        const Matrix3 xyz_from_sensor =
+            fit_xyz_from_sensor_rgb(*fp.sensor_rgb, cie_d_illuminant(wb), srgb_illuminant());
+        fp.rgb_from_sensor = multiply(srgb_from_xyz_matrix(), xyz_from_sensor);
+        fp.luminance_from_sensor = xyz_from_sensor[1];
+    }
+    if (fp.kind == FilmKind::GBuffer) {
+        const std::string cs = ps.get_string("coordinatesystem", "camera");
+        if (cs != "camera" && cs != "world")
+            throw_error(ps.find("coordinatesystem")->loc,
+                        "unknown \"coordinatesystem\" \"{}\": expected camera or world", cs);
+        fp.gbuffer_camera_space = cs == "camera";
+    }
+    if (fp.kind == FilmKind::Spectral) {
+        fp.buckets = ps.get_int("nbuckets", 16);
+        fp.lambda_min = ps.get_float("lambdamin", kLambdaMin);
+        fp.lambda_max = ps.get_float("lambdamax", kLambdaMax);
+        if (!(fp.lambda_min >= kLambdaMin && fp.lambda_max <= kLambdaMax &&
+              fp.lambda_min < fp.lambda_max))
+            throw_error(f.loc,
+                        "\"lambdamin\" {} and \"lambdamax\" {}: expected {} <= lambdamin < "
+                        "lambdamax <= {} nm (the wavelengths steradian renders)",
+                        fp.lambda_min, fp.lambda_max, kLambdaMin, kLambdaMax);
+        // Two sums a bucket and pixel, in double: at most 2^28 of them (2 GiB).
+        const int64_t pixels = int64_t(fp.width()) * fp.height();
+        if (fp.buckets < 1 || int64_t(fp.buckets) * 2 * pixels > (int64_t(1) << 28))
+            throw_error(ps.find("nbuckets") ? ps.find("nbuckets")->loc : f.loc,
+                        "\"nbuckets\" {}: expected 1 or more, and at most {} for {} pixels",
+                        fp.buckets, (int64_t(1) << 27) / pixels, pixels);
     }
     fp.max_component = ps.get_float("maxcomponentvalue", kInfinity);
     fp.half_float = ps.get_bool("savefp16", false);
     ps.get_float("diagonal", 35);  // only meaningful for the realistic camera
-    ps.check_unused("Film \"rgb\"");
+    ps.check_unused(fmt::format("Film \"{}\"", type));
     m_s.film = fp;
 }
 
@@ -113,6 +171,7 @@ void Builder::build_camera(const CameraDesc& c) {
     Float shutter_close = ps.get_float("shutterclose", 1);
     if (shutter_close < shutter_open) throw_error(c.loc, "shutterclose is before shutteropen");
     m_s.film.imaging_ratio = (shutter_close - shutter_open) * m_exposure_iso;
+    m_s.film.camera_from_world = c.world_from_camera.inverse();
     Float frame = ps.get_float("frameaspectratio", Float(cp.resolution.x) / Float(cp.resolution.y));
     if (frame > 1) {
         cp.screen[0] = -frame;
