@@ -14,6 +14,7 @@
 #include "steradian/bsdf/lafortune.h"
 #include "steradian/bsdf/lambert.h"
 #include "steradian/bsdf/layered.h"
+#include "steradian/bsdf/measured.h"
 #include "steradian/bsdf/phong.h"
 #include "steradian/bsdf/thin_dielectric.h"
 #include "steradian/bsdf/ward.h"
@@ -30,7 +31,7 @@ concept Lobe = requires(const L& l, Vec3 w, Float uc, Point2 u, TransportMode m)
 
 using LobeVariant = std::variant<LambertLobe, DielectricLobe, ThinDielectricLobe, ConductorLobe,
                                  DiffuseTransmissionLobe, PhongLobe, LafortuneLobe, WardLobe,
-                                 CoatedDiffuseLobe, CoatedConductorLobe>;
+                                 CoatedDiffuseLobe, CoatedConductorLobe, MeasuredLobe>;
 /// Whether a lobe's sample() reads its 1D sample uc; a lobe that does not says so with
 /// `static constexpr bool kIgnoresUc = true`.
 template <typename L>
@@ -46,6 +47,7 @@ static_assert(Lobe<LafortuneLobe>);
 static_assert(Lobe<WardLobe>);
 static_assert(Lobe<CoatedDiffuseLobe>);
 static_assert(Lobe<CoatedConductorLobe>);
+static_assert(Lobe<MeasuredLobe>);
 
 class Bsdf {
   public:

@@ -132,11 +132,17 @@ struct MixMaterial : MaterialCommon {
     int amount = -1;              ///< float texture
 };
 
+/// pbrt-v4 "measured": a tabulated BRDF of the RGL database read from a .bsdf file (see
+/// bsdf/measured.h). The scene owns the tables; materials naming the same file share them.
+struct MeasuredMaterial : MaterialCommon {
+    std::shared_ptr<const MeasuredBrdf> brdf;
+};
+
 using Material = std::variant<DiffuseMaterial, InterfaceMaterial, DielectricMaterial,
                               ThinDielectricMaterial, ConductorMaterial,
                               DiffuseTransmissionMaterial, PhongMaterial, LafortuneMaterial,
                               WardMaterial, CoatedDiffuseMaterial, CoatedConductorMaterial,
-                              MixMaterial>;
+                              MixMaterial, MeasuredMaterial>;
 
 struct MaterialContext {
     const std::vector<SpectrumTexture>* spectrum_textures = nullptr;
