@@ -112,7 +112,7 @@ TEST(MeasuredBrdf, ConstantTablesGivePbrtFormula) {
         for (int i = 0; i < 4; ++i)
             EXPECT_NEAR(f[i] * std::abs(wi.z), expect[i] * kD / (4 * kSigma), 1e-5);
         Vec3 wm = normalize(wo + wi) * (wo.z < 0 ? -1.0f : 1.0f);
-        Float u = measured_theta_to_u(std::acos(wm.z));
+        Float u = measured_theta_to_u(std::atan2(sin_theta(wm), wm.z));
         Float jac = 4 * std::abs(dot(wo, wm)) * 2 * kPi * kPi * u * sin_theta(wm);
         if (jac > 1e-3f) {
             EXPECT_NEAR(lobe.pdf(wo, wi, TransportMode::Radiance) * jac, 1, 1e-3);
