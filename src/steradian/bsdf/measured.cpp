@@ -182,24 +182,36 @@ Float wi_jacobian(Float wo_dot_wm, Float u_m, Float sin_theta_m) {
     return 4 * wo_dot_wm * std::max(2 * kPi * kPi * u_m * sin_theta_m, Float(1e-6));
 }
 
-}  // namespace
-
-SampledSpectrum MeasuredLobe::f(Vec3 wo, Vec3 wi, TransportMode) const {
-    if (!(wo.z * wi.z > 0)) return SampledSpectrum(0);
+/// A reflection configuration mirrored to the upper side, with its half vector and that
+/// vector's table coordinates; empty when wo and wi lie on opposite sides (or wi = -wo).
+struct Reflection {
+    Vec3 wo, wi, wm;
+    Angles o;
+    Point2 uv_m;
+};
+std::optional<Reflection> reflection(const MeasuredBrdf& b, Vec3 wo, Vec3 wi) {
+    if (!(wo.z * wi.z > 0)) return std::nullopt;
     if (wo.z < 0) {
         wo = -wo;
         wi = -wi;
     }
     Vec3 h = wo + wi;
-    if (length_squared(h) == 0) return SampledSpectrum(0);
-    Vec3 wm = normalize(h);
-    Angles o = angles_of(wo);
-    Point2 uv_m = half_vector_uv(*brdf, wm, o.phi);
-    const Float params[2] = {o.phi, o.theta};
-    Point2 u = brdf->vndf.invert(uv_m, params).p;
-    Float k = microfacet_factor(*brdf, uv_m, o) / wi.z;
+    if (length_squared(h) == 0) return std::nullopt;
+    Reflection r{wo, wi, normalize(h), angles_of(wo), {}};
+    r.uv_m = half_vector_uv(b, r.wm, r.o.phi);
+    return r;
+}
+
+}  // namespace
+
+SampledSpectrum MeasuredLobe::f(Vec3 wo, Vec3 wi, TransportMode) const {
+    std::optional<Reflection> r = reflection(*brdf, wo, wi);
+    if (!r) return SampledSpectrum(0);
+    const Float params[2] = {r->o.phi, r->o.theta};
+    Point2 u = brdf->vndf.invert(r->uv_m, params).p;
+    Float k = microfacet_factor(*brdf, r->uv_m, r->o) / r->wi.z;
     if (!(k > 0) || !std::isfinite(k)) return SampledSpectrum(0);
-    return spectral_values(*brdf, u, o, lambda, k);
+    return spectral_values(*brdf, u, r->o, lambda, k);
 }
 
 std::optional<BsdfSample> MeasuredLobe::sample(Vec3 wo, Float, Point2 u, TransportMode) const {
@@ -231,21 +243,13 @@ std::optional<BsdfSample> MeasuredLobe::sample(Vec3 wo, Float, Point2 u, Transpo
 }
 
 Float MeasuredLobe::pdf(Vec3 wo, Vec3 wi, TransportMode) const {
-    if (!(wo.z * wi.z > 0)) return 0;
-    if (wo.z < 0) {
-        wo = -wo;
-        wi = -wi;
-    }
-    Vec3 h = wo + wi;
-    if (length_squared(h) == 0) return 0;
-    Vec3 wm = normalize(h);
-    Angles o = angles_of(wo);
-    Point2 uv_m = half_vector_uv(*brdf, wm, o.phi);
-    const Float params[2] = {o.phi, o.theta};
-    PiecewiseLinear2D::Sample m = brdf->vndf.invert(uv_m, params);
+    std::optional<Reflection> r = reflection(*brdf, wo, wi);
+    if (!r) return 0;
+    const Float params[2] = {r->o.phi, r->o.theta};
+    PiecewiseLinear2D::Sample m = brdf->vndf.invert(r->uv_m, params);
     Float p_lum = brdf->luminance.evaluate(m.p, params);
-    Float sin_m = std::sqrt(sqr(wm.x) + sqr(wm.y));
-    Float pdf = m.pdf * p_lum / wi_jacobian(dot(wo, wm), uv_m.x, sin_m);
+    Float sin_m = std::sqrt(sqr(r->wm.x) + sqr(r->wm.y));
+    Float pdf = m.pdf * p_lum / wi_jacobian(dot(r->wo, r->wm), r->uv_m.x, sin_m);
     return std::isfinite(pdf) && pdf > 0 ? pdf : 0;
 }
 
