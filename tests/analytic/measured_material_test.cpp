@@ -75,7 +75,9 @@ TEST(MeasuredMaterial, BadFilesAreErrorsAtTheMaterialsLine) {
     std::ofstream(bad, std::ios::binary) << standin_bytes(StandinSpec{}).substr(0, 500);
     msg = build_error(measured(bad.string()));
     EXPECT_NE(msg.find("<test>:10:"), std::string::npos) << msg;
-    EXPECT_NE(msg.find(bad.string() + ": truncated tensor file"), std::string::npos) << msg;
+    // The headers fit in 500 bytes, the tables do not.
+    EXPECT_NE(msg.find(bad.string() + ": field \""), std::string::npos) << msg;
+    EXPECT_NE(msg.find("past the end of the file (500 bytes)"), std::string::npos) << msg;
 }
 
 }  // namespace

@@ -164,12 +164,14 @@ TensorFile parse_tensor_file(std::string_view bytes, std::string_view name) {
             if (extent != 0 && size > bytes.size() / extent) too_big = true;
             size *= too_big ? 1 : extent;
         }
-        if (too_big || offset > bytes.size() || size > bytes.size() - offset)
-            in.fail(fmt::format(
-                "{} ({}) needs {} bytes at byte {}, past the end of the file ({} "
-                "bytes)",
-                what, field.describe(), too_big ? std::string("more than ") : std::to_string(size),
-                offset, bytes.size()));
+        if (too_big || offset > bytes.size() || size > bytes.size() - offset) {
+            std::string need =
+                too_big ? fmt::format("more than {}", bytes.size()) : std::to_string(size);
+            in.fail(
+                fmt::format("{} ({}) needs {} bytes at byte {}, past the end of the file ({} "
+                            "bytes)",
+                            what, field.describe(), need, offset, bytes.size()));
+        }
         field.bytes.assign(bytes.substr(size_t(offset), size_t(size)));
         if (!file.fields.emplace(std::move(field_name), std::move(field)).second)
             in.fail(fmt::format("{} appears twice", what));
