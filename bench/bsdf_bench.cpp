@@ -12,6 +12,7 @@
 #include "steradian/bsdf/bsdf.h"
 #include "steradian/sampling/rng.h"
 #include "steradian/sampling/warp.h"
+#include "support/measured_standin.h"
 
 namespace sr {
 namespace {
@@ -20,6 +21,28 @@ struct Instance {
     std::string name;
     LobeVariant lobe;
 };
+
+/// Stand-ins of the RGL database's tables (tests/support/measured_standin.h) at the database's
+/// usual resolution: GGX alpha 0.3 (isotropic) or (0.15, 0.4) with 9 phi_i.
+const MeasuredBrdf& standin(bool anisotropic) {
+    auto make = [](bool aniso) {
+        test::StandinSpec s;
+        if (aniso) {
+            s.alpha_x = 0.15f;
+            s.alpha_y = 0.4f;
+            s.anisotropic = true;
+        }
+        return parse_measured_brdf(test::standin_bytes(s), "standin.bsdf");
+    };
+    static const MeasuredBrdf iso = make(false), aniso = make(true);
+    return anisotropic ? aniso : iso;
+}
+SampledWavelengths standin_lambda() {
+    SampledWavelengths w;
+    w.lambda = {420, 510, 590, 680};
+    w.pdf = {1, 1, 1, 1};
+    return w;
+}
 
 std::vector<Instance> instances() {
     LafortuneLobe laf1;
@@ -61,6 +84,8 @@ std::vector<Instance> instances() {
         {"WardAniso", WardLobe{SampledSpectrum(0.3f), SampledSpectrum(0.6f), 0.05f, 0.4f}},
         {"CoatedDiffuse", coated_diffuse},
         {"CoatedConductorRough", coated_conductor},
+        {"MeasuredIso", MeasuredLobe{&standin(false), standin_lambda()}},
+        {"MeasuredAniso", MeasuredLobe{&standin(true), standin_lambda()}},
     };
 }
 

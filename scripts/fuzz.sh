@@ -17,7 +17,7 @@ seconds=${1:-60}
 shift || true
 jobs=${JOBS:-2}
 
-all=(pbrt_tokenizer pbrt_parser scene_build ply ies eulumdat spectrum_file)
+all=(pbrt_tokenizer pbrt_parser scene_build ply ies eulumdat spectrum_file measured_brdf)
 harnesses=("$@")
 [ ${#harnesses[@]} -eq 0 ] && harnesses=("${all[@]}")
 
@@ -33,7 +33,7 @@ max_len() {
   case $1 in
     pbrt_tokenizer) echo 4096 ;;
     pbrt_parser | scene_build) echo 12000 ;;  # the test scenes are up to 9 kB
-    ply | ies | eulumdat) echo 4096 ;;
+    ply | ies | eulumdat | measured_brdf) echo 4096 ;;
     spectrum_file) echo 1024 ;;
   esac
 }
@@ -45,6 +45,7 @@ seed_files() {
     ies) find tests/data fuzz/seeds/ies -name '*.ies' ;;
     eulumdat) find tests/data fuzz/seeds/eulumdat -name '*.ldt' ;;
     spectrum_file) find tests/data fuzz/seeds/spectrum_file -name '*.spd' ;;
+    measured_brdf) find fuzz/seeds/measured_brdf -name '*.bsdf' ;;
   esac
 }
 

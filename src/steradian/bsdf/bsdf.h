@@ -15,6 +15,7 @@
 #include "steradian/bsdf/lafortune.h"
 #include "steradian/bsdf/lambert.h"
 #include "steradian/bsdf/layered.h"
+#include "steradian/bsdf/measured.h"
 #include "steradian/bsdf/phong.h"
 #include "steradian/bsdf/thin_dielectric.h"
 #include "steradian/bsdf/ward.h"
@@ -31,7 +32,8 @@ concept Lobe = requires(const L& l, Vec3 w, Float uc, Point2 u, TransportMode m)
 
 using LobeVariant = std::variant<LambertLobe, DielectricLobe, ThinDielectricLobe, ConductorLobe,
                                  DiffuseTransmissionLobe, PhongLobe, LafortuneLobe, WardLobe,
-                                 CoatedDiffuseLobe, CoatedConductorLobe, HairLobe>;
+                                 CoatedDiffuseLobe, CoatedConductorLobe, HairLobe,
+                                 MeasuredLobe>;
 /// Whether a lobe's sample() reads its 1D sample uc; a lobe that does not says so with
 /// `static constexpr bool kIgnoresUc = true`.
 template <typename L>
@@ -48,6 +50,7 @@ static_assert(Lobe<WardLobe>);
 static_assert(Lobe<CoatedDiffuseLobe>);
 static_assert(Lobe<CoatedConductorLobe>);
 static_assert(Lobe<HairLobe>);
+static_assert(Lobe<MeasuredLobe>);
 
 class Bsdf {
   public:

@@ -245,6 +245,8 @@ std::optional<Bsdf> bsdf_at(const Material& m, const MaterialContext& ctx, const
                             layered_lobe(top, base, mat.layer, ctx, h, lambda));
             } else if constexpr (std::is_same_v<T, HairMaterial>) {
                 out.emplace(shading_frame(h), h.ng, hair_lobe(mat, ctx, h, lambda));
+            } else if constexpr (std::is_same_v<T, MeasuredMaterial>) {
+                out.emplace(shading_frame(h), h.ng, MeasuredLobe{mat.brdf.get(), lambda});
             } else if constexpr (std::is_same_v<T, MixMaterial>) {
                 out = make_bsdf((*ctx.materials)[mix_choice(mat, ctx, h)], ctx, h, lambda);
             } else {

@@ -144,11 +144,17 @@ struct HairMaterial : MaterialCommon {
     int eta = -1, beta_m = -1, beta_n = -1, alpha = -1;  ///< float textures
 };
 
+/// pbrt-v4 "measured": a tabulated BRDF of the RGL database read from a .bsdf file (see
+/// bsdf/measured.h). The scene owns the tables; materials naming the same file share them.
+struct MeasuredMaterial : MaterialCommon {
+    std::shared_ptr<const MeasuredBrdf> brdf;
+};
+
 using Material = std::variant<DiffuseMaterial, InterfaceMaterial, DielectricMaterial,
                               ThinDielectricMaterial, ConductorMaterial,
                               DiffuseTransmissionMaterial, PhongMaterial, LafortuneMaterial,
                               WardMaterial, CoatedDiffuseMaterial, CoatedConductorMaterial,
-                              MixMaterial, HairMaterial>;
+                              MixMaterial, HairMaterial, MeasuredMaterial>;
 
 struct MaterialContext {
     const std::vector<SpectrumTexture>* spectrum_textures = nullptr;

@@ -124,6 +124,9 @@ class Builder {
     void resolve_mixes();
     Material make_material(const MaterialDesc& m);
     Material make_material_model(const MaterialDesc& m);
+    /// The tables of a "measured" material's "filename", read once per file.
+    std::shared_ptr<const MeasuredBrdf> measured_brdf(const ParamSet& ps, const MaterialDesc& m,
+                                                      const std::string& what);
     void build_materials();
     int resolve_material(const MaterialRef& r);
 
@@ -205,6 +208,7 @@ class Builder {
     Float m_exposure_iso = 1;
     std::map<std::string, std::shared_ptr<const TextureImage>> m_images;
     std::map<std::string, int> m_float_tex, m_spec_tex;
+    std::map<std::string, std::shared_ptr<const MeasuredBrdf>> m_measured;  ///< by path
     std::vector<int> m_material_index;
     int m_default_material = -1;
     std::vector<std::pair<int, int>> m_pending_area;  ///< (shape, area light desc)

@@ -190,6 +190,12 @@ Material Builder::make_material_model(const MaterialDesc& m) {
         w.energy_scale = energy_scale(w.kd, w.ks, m.loc, what);
         return w;
     }
+    if (m.type == "measured") {
+        MeasuredMaterial mm;
+        mm.brdf = measured_brdf(ps, m, what);
+        ps.check_unused(what);
+        return mm;
+    }
     throw_unsupported(m.loc, "material type \"{}\" is not supported yet (see docs/pbrt-support.md)",
                       m.type);
 }
@@ -243,6 +249,24 @@ HairMaterial Builder::hair_params(const ParamSet& ps, const std::string& what) {
     h.beta_n = float_texture_param(ps, "beta_n", 0.3f);
     h.alpha = float_texture_param(ps, "alpha", 2);
     return h;
+}
+
+std::shared_ptr<const MeasuredBrdf> Builder::measured_brdf(const ParamSet& ps,
+                                                           const MaterialDesc& m,
+                                                           const std::string& what) {
+    std::string file = ps.get_string("filename", "");
+    const Param* p = ps.find("filename");
+    if (file.empty())
+        throw_error(p ? p->loc : m.loc, "{}: \"filename\" must name a .bsdf file", what);
+    std::string path = resolve_path(m_d.base_dir, file);
+    auto it = m_measured.find(path);
+    if (it != m_measured.end()) return it->second;
+    try {
+        auto brdf = std::make_shared<const MeasuredBrdf>(read_measured_brdf(path));
+        return m_measured.emplace(path, std::move(brdf)).first->second;
+    } catch (const Error& err) {
+        throw_error(p->loc, "{}: \"filename\": {}", what, err.what());
+    }
 }
 
 void Builder::build_materials() {
