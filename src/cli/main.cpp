@@ -549,8 +549,9 @@ void print_check(const SceneCheck& c, bool quiet) {
     } else {
         size_t unsupported = 0;
         for (const sr::ErrorEntry& e : c.errors) unsupported += e.unsupported ? 1 : 0;
-        std::printf("%s: FAILED: %zu errors (%zu unsupported features or unknown parameters%s)\n",
-                    sr::terminal_safe(c.scene).c_str(), c.errors.size(), unsupported,
+        std::printf("%s: FAILED: %zu %s (%zu unsupported features or unknown parameters%s)\n",
+                    sr::terminal_safe(c.scene).c_str(), c.errors.size(),
+                    c.errors.size() == 1 ? "error" : "errors", unsupported,
                     c.truncated ? fmt::format("; stopped at the first {}", kCheckMaxUnsupported)
                                       .c_str()
                                 : "");
