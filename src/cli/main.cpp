@@ -5,11 +5,11 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <iostream>
@@ -20,8 +20,8 @@
 #include "steradian/core/error.h"
 #include "steradian/core/error_list.h"
 #include "steradian/core/output_file.h"
-#include "steradian/film/film.h"
 #include "steradian/film/falsecolor.h"
+#include "steradian/film/film.h"
 #include "steradian/film/image_io.h"
 #include "steradian/integrators/checkpoint.h"
 #include "steradian/integrators/integrator.h"
@@ -485,7 +485,6 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     return exit_status();
 }
 
-
 /// `steradian check`: the most unsupported features and unknown parameters listed per scene
 /// (render stops at kMaxReportedUnsupported; a check wants them all).
 constexpr size_t kCheckMaxUnsupported = 1000;
@@ -536,31 +535,32 @@ SceneCheck check_scene(const std::string& path) {
 }
 
 std::string located(const sr::ErrorEntry& e) {
-    return sr::terminal_safe(e.loc.file.empty() ? e.message
-                                                : e.loc.to_string() + ": " + e.message);
+    return sr::terminal_safe(e.loc.file.empty() ? e.message : e.loc.to_string() + ": " + e.message);
 }
 
 void print_check(const SceneCheck& c, bool quiet) {
     if (c.ok) {
-        std::printf("%s: ok: %zu shapes (%zu triangles), %zu instances, %zu lights, %zu "
-                    "materials, %zu textures; parsed and built in %.2f s\n",
-                    sr::terminal_safe(c.scene).c_str(), c.shapes, c.triangles, c.instances,
-                    c.lights, c.materials, c.textures, c.seconds);
+        std::printf(
+            "%s: ok: %zu shapes (%zu triangles), %zu instances, %zu lights, %zu "
+            "materials, %zu textures; parsed and built in %.2f s\n",
+            sr::terminal_safe(c.scene).c_str(), c.shapes, c.triangles, c.instances, c.lights,
+            c.materials, c.textures, c.seconds);
     } else {
         size_t unsupported = 0;
         for (const sr::ErrorEntry& e : c.errors) unsupported += e.unsupported ? 1 : 0;
         std::printf("%s: FAILED: %zu %s (%zu unsupported features or unknown parameters%s)\n",
                     sr::terminal_safe(c.scene).c_str(), c.errors.size(),
                     c.errors.size() == 1 ? "error" : "errors", unsupported,
-                    c.truncated ? fmt::format("; stopped at the first {}", kCheckMaxUnsupported)
-                                      .c_str()
-                                : "");
+                    c.truncated
+                        ? fmt::format("; stopped at the first {}", kCheckMaxUnsupported).c_str()
+                        : "");
         for (const sr::ErrorEntry& e : c.errors)
-            std::printf("  %s%s\n", e.unsupported ? "unsupported: " : "error: ",
-                        located(e).c_str());
+            std::printf("  %s%s\n",
+                        e.unsupported ? "unsupported: " : "error: ", located(e).c_str());
     }
     if (!quiet)
-        for (const sr::ErrorEntry& w : c.warnings) std::printf("  warning: %s\n", located(w).c_str());
+        for (const sr::ErrorEntry& w : c.warnings)
+            std::printf("  warning: %s\n", located(w).c_str());
 }
 
 nlohmann::ordered_json entries_json(const std::vector<sr::ErrorEntry>& entries, bool kind) {
@@ -698,8 +698,9 @@ int main(int argc, char** argv) {
                         "seed, identical readings; options not given come from it");
 
     auto* check = app.add_subcommand(
-        "check", "Parse and build scenes without rendering; report every error, unsupported "
-                 "feature and warning with its file:line:col (exit 0 only if all build)");
+        "check",
+        "Parse and build scenes without rendering; report every error, unsupported "
+        "feature and warning with its file:line:col (exit 0 only if all build)");
     CheckArgs ca;
     check->add_option("scenes", ca.scenes, "pbrt-v4 scene files")->required();
     check->add_option("--json", ca.json,

@@ -8,8 +8,8 @@ Usage: tests/pbrt-compat/run.py path/to/steradian
 The scenes are copied to a temporary directory with the assets run.py makes for them
 (an equal-area EXR map, a gzipped PLY, PNG textures). A reading passes when it is within
 4 standard errors of the expected value, plus a stated allowance for what the estimate
-cannot resolve (ALLOW below); readings of delta lights through black surfaces have no
-variance and are held to the allowance alone. Fixed seeds: the outcome is deterministic.
+cannot resolve (ALLOW below); a reading of exactly no light has no variance and is held to
+zero. Fixed seeds: the outcome is deterministic.
 """
 import gzip
 import json

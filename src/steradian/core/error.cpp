@@ -1,13 +1,13 @@
 #include "steradian/core/error.h"
 
-#include "steradian/core/error_list.h"
-
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
 #include <set>
 #include <utility>
 #include <vector>
+
+#include "steradian/core/error_list.h"
 
 namespace sr {
 namespace {
