@@ -524,7 +524,9 @@ SceneCheck check_scene(const std::string& path) {
     } catch (const sr::Error& e) {
         c.errors = sr::error_entries(e);
     } catch (const std::exception& e) {
-        c.errors.push_back({{}, e.what(), false});
+        sr::ErrorEntry entry;  // no location: not an input error
+        entry.message = e.what();
+        c.errors.push_back(std::move(entry));
     }
     c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // Each distinct warning once, in the order first given.

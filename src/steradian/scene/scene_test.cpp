@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "steradian/core/error_list.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 
@@ -232,6 +233,76 @@ TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
     EXPECT_NE(mixed.find("\nt.pbrt:3:1: Shape \"sphere\": radius must be positive"),
               std::string::npos)
         << mixed;
+}
+
+TEST(SceneBuild, TheListIsAnErrorListOfLocatedEntriesAndItsLimitIsAnOption) {
+    // steradian check reads the entries, not the message: each keeps its location, the
+    // unsupported ones are marked, and an error that stops the build comes last.
+    std::string text = "WorldBegin\n";
+    for (int i = 0; i < 30; ++i) text += "Shape \"curve\"\n";
+    text += "Shape \"sphere\" \"float radius\" -1\n";
+    set_warnings_quiet(true);
+    const SceneDesc desc = parse_pbrt_string(text, "t.pbrt");
+    set_warnings_quiet(false);
+    BuildOptions all;
+    all.max_unsupported = 1000;
+    try {
+        build_scene(desc, all);
+        ADD_FAILURE() << "the scene built";
+    } catch (const ErrorList& e) {
+        ASSERT_EQ(e.entries().size(), 31u);
+        EXPECT_FALSE(e.truncated());
+        for (int i = 0; i < 30; ++i) {
+            EXPECT_EQ(e.entries()[i].loc.line, 2 + i);
+            EXPECT_EQ(e.entries()[i].loc.column, 1);
+            EXPECT_TRUE(e.entries()[i].unsupported);
+            EXPECT_EQ(e.entries()[i].message,
+                      "shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
+        }
+        EXPECT_EQ(e.entries()[30].loc.line, 32);
+        EXPECT_FALSE(e.entries()[30].unsupported);
+    }
+    BuildOptions five;
+    five.max_unsupported = 5;
+    try {
+        build_scene(desc, five);
+        ADD_FAILURE() << "the scene built";
+    } catch (const ErrorList& e) {
+        EXPECT_EQ(e.entries().size(), 5u);
+        EXPECT_TRUE(e.truncated());
+    }
+    // One problem is thrown as it was, and error_entries() still gives it as one entry.
+    try {
+        build_scene(parse_pbrt_string("WorldBegin\nShape \"curve\"\n", "t.pbrt"));
+        ADD_FAILURE() << "the scene built";
+    } catch (const Error& e) {
+        EXPECT_EQ(dynamic_cast<const ErrorList*>(&e), nullptr);
+        const std::vector<ErrorEntry> one = error_entries(e);
+        ASSERT_EQ(one.size(), 1u);
+        EXPECT_EQ(one[0].loc.line, 2);
+        EXPECT_TRUE(one[0].unsupported);
+    }
+}
+
+TEST(Warnings, ACaptureCollectsEveryWarningWithItsLocationInsteadOfPrintingIt) {
+    std::vector<ErrorEntry> got;
+    {
+        WarningCapture capture;
+        // Motion blur is not supported: a warning at each ActiveTransform, the same message
+        // twice, both kept (the printed warnings show each distinct one once).
+        parse_pbrt_string("ActiveTransform EndTime\nActiveTransform All\n"
+                          "ActiveTransform EndTime\nWorldBegin\n",
+                          "w.pbrt");
+        got = capture.take();
+        EXPECT_TRUE(capture.take().empty());
+    }
+    ASSERT_EQ(got.size(), 2u);
+    EXPECT_EQ(got[0].loc.file, "w.pbrt");
+    EXPECT_EQ(got[0].loc.line, 1);
+    EXPECT_EQ(got[1].loc.line, 3);
+    EXPECT_EQ(got[0].message, got[1].message);
+    EXPECT_NE(got[0].message.find("motion blur"), std::string::npos) << got[0].message;
+    EXPECT_FALSE(got[0].unsupported);
 }
 
 TEST(SceneBuild, SpotConeFalloffIsConedeltaangle) {
