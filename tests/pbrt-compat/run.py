@@ -270,6 +270,25 @@ def main():
             check(f"cylindrical mapping at {p[:2]}", m["cylindrical"]["values"][k],
                   quadrant_value(s, t, "cylindrical"), m["cylindrical"]["stderr"][k])
 
+        # bilerp: rho = (1-s)(1-t) v00 + s(1-t) v10 + (1-s)t v01 + st v11 at (s, t) = (u, v),
+        # here the floor's (x, y); directionmix: rho = a tex1 + (1 - a) tex2 with
+        # a = |n . dir|, dir (0, 0, 1) turned 30 degrees about x, so a = cos 30.
+        m = measure(exe, d, "textures-bilerp-directionmix.pbrt", 2e-3)
+        for k, p in enumerate(m["bilerp"]["points"]):
+            s, t = p[0], p[1]
+            rho = (1 - s) * (1 - t) * 0.1 + s * (1 - t) * 0.9 + (1 - s) * t * 0.3 + s * t * 0.5
+            check(f"bilerp at {p[:2]}", m["bilerp"]["values"][k], rho, m["bilerp"]["stderr"][k])
+        a = math.cos(math.radians(30))
+        check("directionmix: a tex1 + (1 - a) tex2, a = cos 30", m["dirmix"]["values"][0],
+              a * 0.8 + (1 - a) * 0.2, m["dirmix"]["stderr"][0])
+
+        # loopsubdiv: a closed limit surface lets no light in; above it the whole sky.
+        m = measure(exe, d, "loopsubdiv-closed.pbrt", 2e-3)
+        check("loopsubdiv: E inside the closed surface = 0", m["inside"]["values"][0], 0.0,
+              m["inside"]["stderr"][0])
+        check("loopsubdiv: E above it = pi L", m["above"]["values"][0], 2 * math.pi,
+              m["above"]["stderr"][0])
+
         # Film iso 400, whitebalance 5000: pixel = iso/100 * RGB_sRGB(WB(XYZ of D65, Y = 1)).
         out = os.path.join(d, "film.pfm")
         subprocess.run([exe, "render", os.path.join(d, "film-iso-whitebalance.pbrt"), "-o", out,
