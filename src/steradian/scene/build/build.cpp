@@ -23,7 +23,10 @@ Scene Builder::build() {
 void Builder::fail(const Error* last) {
     m_failed = true;
     const size_t n = m_unsupported.size() + (last ? 1 : 0);
-    if (n == 1) throw last ? *last : m_unsupported.front();  // as it was thrown
+    if (n == 1) {  // as it was thrown (an UnsupportedError stays one)
+        if (last) throw *last;
+        throw m_unsupported.front();
+    }
     const bool truncated = m_unsupported.size() >= m_o.max_unsupported;
     std::string msg = fmt::format(
         "the scene cannot be rendered: {} unsupported features or unknown parameters{} (see "
