@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -235,6 +236,18 @@ TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
         << mixed;
 }
 
+/// The ErrorList build_scene() throws for `desc` with `max_unsupported`, if it throws one.
+std::optional<ErrorList> build_error_list(const SceneDesc& desc, size_t max_unsupported) {
+    BuildOptions o;
+    o.max_unsupported = max_unsupported;
+    try {
+        build_scene(desc, o);
+    } catch (const ErrorList& e) {
+        return e;
+    }
+    return std::nullopt;
+}
+
 TEST(SceneBuild, TheListIsAnErrorListOfLocatedEntriesAndItsLimitIsAnOption) {
     // steradian check reads the entries, not the message: each keeps its location, the
     // unsupported ones are marked, and an error that stops the build comes last.
@@ -244,33 +257,23 @@ TEST(SceneBuild, TheListIsAnErrorListOfLocatedEntriesAndItsLimitIsAnOption) {
     set_warnings_quiet(true);
     const SceneDesc desc = parse_pbrt_string(text, "t.pbrt");
     set_warnings_quiet(false);
-    BuildOptions all;
-    all.max_unsupported = 1000;
-    try {
-        build_scene(desc, all);
-        ADD_FAILURE() << "the scene built";
-    } catch (const ErrorList& e) {
-        ASSERT_EQ(e.entries().size(), 31u);
-        EXPECT_FALSE(e.truncated());
-        for (int i = 0; i < 30; ++i) {
-            EXPECT_EQ(e.entries()[i].loc.line, 2 + i);
-            EXPECT_EQ(e.entries()[i].loc.column, 1);
-            EXPECT_TRUE(e.entries()[i].unsupported);
-            EXPECT_EQ(e.entries()[i].message,
-                      "shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
-        }
-        EXPECT_EQ(e.entries()[30].loc.line, 32);
-        EXPECT_FALSE(e.entries()[30].unsupported);
+    const std::optional<ErrorList> all = build_error_list(desc, 1000);
+    ASSERT_TRUE(all);
+    ASSERT_EQ(all->entries().size(), 31u);
+    EXPECT_FALSE(all->truncated());
+    for (int i = 0; i < 30; ++i) {
+        EXPECT_EQ(all->entries()[i].loc.line, 2 + i);
+        EXPECT_EQ(all->entries()[i].loc.column, 1);
+        EXPECT_TRUE(all->entries()[i].unsupported);
+        EXPECT_EQ(all->entries()[i].message,
+                  "shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
     }
-    BuildOptions five;
-    five.max_unsupported = 5;
-    try {
-        build_scene(desc, five);
-        ADD_FAILURE() << "the scene built";
-    } catch (const ErrorList& e) {
-        EXPECT_EQ(e.entries().size(), 5u);
-        EXPECT_TRUE(e.truncated());
-    }
+    EXPECT_EQ(all->entries()[30].loc.line, 32);
+    EXPECT_FALSE(all->entries()[30].unsupported);
+    const std::optional<ErrorList> five = build_error_list(desc, 5);
+    ASSERT_TRUE(five);
+    EXPECT_EQ(five->entries().size(), 5u);
+    EXPECT_TRUE(five->truncated());
     // One problem is thrown as it was, and error_entries() still gives it as one entry.
     try {
         build_scene(parse_pbrt_string("WorldBegin\nShape \"curve\"\n", "t.pbrt"));
