@@ -1,23 +1,27 @@
 // steradian command line: `steradian render SCENE.pbrt [options]`,
-// `steradian measure SCENE.pbrt [options]`.
+// `steradian measure SCENE.pbrt [options]`, `steradian check SCENE.pbrt... [--json FILE]`.
 #include <signal.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 
 #include "steradian/core/error.h"
+#include "steradian/core/error_list.h"
 #include "steradian/core/output_file.h"
-#include "steradian/film/film.h"
 #include "steradian/film/falsecolor.h"
+#include "steradian/film/film.h"
 #include "steradian/film/image_io.h"
 #include "steradian/integrators/checkpoint.h"
 #include "steradian/integrators/integrator.h"
@@ -481,6 +485,147 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     return exit_status();
 }
 
+/// `steradian check`: the most unsupported features and unknown parameters listed per scene
+/// (render stops at kMaxReportedUnsupported; a check wants them all).
+constexpr size_t kCheckMaxUnsupported = 1000;
+
+/// What `steradian check` found for one scene.
+struct SceneCheck {
+    std::string scene;
+    bool ok = false;
+    bool truncated = false;  ///< the builder stopped at kCheckMaxUnsupported
+    std::vector<sr::ErrorEntry> errors, warnings;
+    size_t shapes = 0, triangles = 0, instances = 0, lights = 0, materials = 0, textures = 0;
+    double seconds = 0;  ///< parse and build, wall time
+};
+
+SceneCheck check_scene(const std::string& path) {
+    SceneCheck c;
+    c.scene = path;
+    sr::WarningCapture capture;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        sr::SceneDesc desc = sr::parse_pbrt_file(path);
+        sr::BuildOptions bo;
+        bo.max_unsupported = kCheckMaxUnsupported;
+        sr::Scene scene = sr::build_scene(desc, bo);
+        c.ok = true;
+        c.shapes = scene.shapes.size();
+        for (const sr::ShapeEntry& s : scene.shapes)
+            if (const auto* m = std::get_if<sr::TriangleMesh>(&s.geometry))
+                c.triangles += m->num_triangles();
+        c.instances = scene.instances.size();
+        c.lights = scene.lights.size();
+        c.materials = scene.materials.size();
+        c.textures = scene.float_textures.size() + scene.spectrum_textures.size();
+    } catch (const sr::ErrorList& e) {
+        c.errors = e.entries();
+        c.truncated = e.truncated();
+    } catch (const sr::Error& e) {
+        c.errors = sr::error_entries(e);
+    } catch (const std::exception& e) {
+        sr::ErrorEntry entry;  // no location: not an input error
+        entry.message = e.what();
+        c.errors.push_back(std::move(entry));
+    }
+    c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Each distinct warning once, in the order first given.
+    std::set<std::string> seen;
+    for (sr::ErrorEntry& w : capture.take())
+        if (seen.insert(w.loc.to_string() + w.message).second) c.warnings.push_back(std::move(w));
+    return c;
+}
+
+std::string located(const sr::ErrorEntry& e) {
+    return sr::terminal_safe(e.loc.file.empty() ? e.message : e.loc.to_string() + ": " + e.message);
+}
+
+void print_check(const SceneCheck& c, bool quiet) {
+    if (c.ok) {
+        std::printf(
+            "%s: ok: %zu shapes (%zu triangles), %zu instances, %zu lights, %zu "
+            "materials, %zu textures; parsed and built in %.2f s\n",
+            sr::terminal_safe(c.scene).c_str(), c.shapes, c.triangles, c.instances, c.lights,
+            c.materials, c.textures, c.seconds);
+    } else {
+        size_t unsupported = 0;
+        for (const sr::ErrorEntry& e : c.errors) unsupported += e.unsupported ? 1 : 0;
+        std::printf("%s: FAILED: %zu %s (%zu unsupported features or unknown parameters%s)\n",
+                    sr::terminal_safe(c.scene).c_str(), c.errors.size(),
+                    c.errors.size() == 1 ? "error" : "errors", unsupported,
+                    c.truncated
+                        ? fmt::format("; stopped at the first {}", kCheckMaxUnsupported).c_str()
+                        : "");
+        for (const sr::ErrorEntry& e : c.errors)
+            std::printf("  %s%s\n",
+                        e.unsupported ? "unsupported: " : "error: ", located(e).c_str());
+    }
+    if (!quiet)
+        for (const sr::ErrorEntry& w : c.warnings)
+            std::printf("  warning: %s\n", located(w).c_str());
+}
+
+nlohmann::ordered_json entries_json(const std::vector<sr::ErrorEntry>& entries, bool kind) {
+    nlohmann::ordered_json a = nlohmann::ordered_json::array();
+    for (const sr::ErrorEntry& e : entries) {
+        nlohmann::ordered_json j;
+        j["file"] = e.loc.file;
+        j["line"] = e.loc.line;
+        j["column"] = e.loc.column;
+        j["message"] = e.message;
+        if (kind) j["unsupported"] = e.unsupported;
+        a.push_back(std::move(j));
+    }
+    return a;
+}
+
+std::string checks_json(const std::vector<SceneCheck>& checks) {
+    nlohmann::ordered_json root;
+    size_t ok = 0;
+    nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
+    for (const SceneCheck& c : checks) {
+        ok += c.ok ? 1 : 0;
+        nlohmann::ordered_json j;
+        j["scene"] = c.scene;
+        j["ok"] = c.ok;
+        j["seconds"] = c.seconds;
+        if (c.ok)
+            j["summary"] = {{"shapes", c.shapes},       {"triangles", c.triangles},
+                            {"instances", c.instances}, {"lights", c.lights},
+                            {"materials", c.materials}, {"textures", c.textures}};
+        j["errors"] = entries_json(c.errors, true);
+        j["errors_truncated"] = c.truncated;
+        j["warnings"] = entries_json(c.warnings, false);
+        scenes.push_back(std::move(j));
+    }
+    root["scenes_ok"] = ok;
+    root["scenes"] = checks.size();
+    root["results"] = std::move(scenes);
+    // Invalid UTF-8 in a file name or message is replaced, not thrown on.
+    return root.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
+struct CheckArgs {
+    std::vector<std::string> scenes;
+    std::string json;
+    bool quiet = false;
+};
+
+int run_check(const CheckArgs& a) {
+    if (!a.json.empty()) sr::check_output_path(a.json, "--json");
+    std::vector<SceneCheck> checks;
+    size_t ok = 0;
+    for (const std::string& path : a.scenes) {
+        checks.push_back(check_scene(path));
+        ok += checks.back().ok ? 1 : 0;
+        print_check(checks.back(), a.quiet);
+        std::fflush(stdout);
+    }
+    if (checks.size() > 1) std::printf("%zu of %zu scenes parse and build\n", ok, checks.size());
+    if (!a.json.empty()) sr::write_text_file(a.json, checks_json(checks));
+    return ok == checks.size() ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -554,6 +699,17 @@ int main(int argc, char** argv) {
                         "continue the measurement saved in this checkpoint: same scene, target and "
                         "seed, identical readings; options not given come from it");
 
+    auto* check = app.add_subcommand(
+        "check",
+        "Parse and build scenes without rendering; report every error, unsupported "
+        "feature and warning with its file:line:col (exit 0 only if all build)");
+    CheckArgs ca;
+    check->add_option("scenes", ca.scenes, "pbrt-v4 scene files")->required();
+    check->add_option("--json", ca.json,
+                      "also write the results as JSON (per scene: ok, errors and warnings with "
+                      "their locations, the summary)");
+    check->add_flag("-q,--quiet", ca.quiet, "no warnings on stdout (the JSON keeps them)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -571,6 +727,7 @@ int main(int argc, char** argv) {
                 throw sr::Error("measure: a scene file is required (or --resume CHECKPOINT)");
             return run_measure(margs, [&](const char* name) { return measure->count(name) > 0; });
         }
+        if (*check) return run_check(ca);
     } catch (const sr::Error& e) {
         std::fprintf(stderr, "error: %s\n", sr::terminal_safe(e.what()).c_str());
         return 1;

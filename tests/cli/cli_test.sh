@@ -479,5 +479,43 @@ sed -e 's/Camera "perspective"/Camera "realistic"/' -e 's/\(Shape "sphere"\)/\1 
 check "unsupported things: non-zero exit" test $? -ne 0
 check "unsupported things: all three located" bash -c "grep -q 'three.pbrt:2:1: Camera \"realistic\"' '$tmp/gz/three.txt' && grep -q 'three.pbrt:6:1: light type \"projection\"' '$tmp/gz/three.txt' && grep -q 'three.pbrt:8:.*unused parameter \"float radus\"' '$tmp/gz/three.txt'"
 
+# check: parse and build without rendering; every problem located; a summary; JSON.
+"$bin" check "$tmp/small.pbrt" > "$tmp/check-ok.txt" 2>&1
+check "check of a good scene exits 0" test $? -eq 0
+check "check summarises the scene" grep -q "small.pbrt: ok: 1 shapes (0 triangles), 0 instances, 1 lights, 1 materials, 1 textures; parsed and built in" "$tmp/check-ok.txt"
+mkdir -p "$tmp/chk" && cp "$tmp/small.pbrt" "$tmp/chk/"
+(cd "$tmp/chk" && "$bin" check small.pbrt > /dev/null 2>&1)
+check "check renders nothing (no Film output written)" test ! -e "$tmp/chk/small.exr"
+"$bin" check "$tmp/small.pbrt" "$tmp/gz/three.pbrt" "$tmp/gz/s.pbrt" --json "$tmp/check.json" > "$tmp/check3.txt" 2>&1
+check "check with one bad scene of three exits 1" test $? -eq 1
+check "check lists the bad scene's three problems" bash -c "grep -q 'three.pbrt: FAILED: 3 errors (3 unsupported' '$tmp/check3.txt' && grep -q 'unsupported: .*three.pbrt:2:1: Camera \"realistic\"' '$tmp/check3.txt' && grep -q 'unsupported: .*three.pbrt:8:.*unused parameter \"float radus\"' '$tmp/check3.txt'"
+check "check counts the scenes that build" grep -q "^2 of 3 scenes parse and build$" "$tmp/check3.txt"
+check "check --json: per scene ok, errors located, warnings" python3 -c "
+import json, sys
+j = json.load(open('$tmp/check.json'))
+r = j['results']
+assert j['scenes'] == 3 and j['scenes_ok'] == 2, j
+assert [x['ok'] for x in r] == [True, False, True]
+e = {(x['line'], x['column'], x['unsupported']) for x in r[1]['errors']}
+assert (2, 1, True) in e and (6, 1, True) in e and len(e) == 3, e
+assert all(x['file'].endswith('three.pbrt') for x in r[1]['errors'])
+assert r[0]['summary']['shapes'] == 1 and r[0]['summary']['lights'] == 1
+assert r[2]['summary']['triangles'] == 1
+assert all(isinstance(x['warnings'], list) for x in r)
+"
+printf 'WorldBegin\nShape "sphere" "float radius" [ 1\n' > "$tmp/syntax.pbrt"
+"$bin" check "$tmp/syntax.pbrt" > "$tmp/check-syntax.txt" 2>&1
+check "check: a syntax error exits 1" test $? -eq 1
+check "check: a syntax error is located" bash -c "grep -q 'syntax.pbrt: FAILED: 1 error ' '$tmp/check-syntax.txt' && grep -q 'error: .*syntax.pbrt:[0-9]*:[0-9]*: ' '$tmp/check-syntax.txt'"
+printf 'WorldBegin\nActiveTransform EndTime\nShape "sphere"\n' > "$tmp/warn.pbrt"
+"$bin" check "$tmp/warn.pbrt" --json "$tmp/warn.json" > "$tmp/check-warn.txt" 2>&1
+check "check reports warnings with their location" grep -q "warning: .*warn.pbrt:2:1: ActiveTransform" "$tmp/check-warn.txt"
+check "check --json keeps the warnings" python3 -c "
+import json; w = json.load(open('$tmp/warn.json'))['results'][0]['warnings']
+assert w and w[0]['line'] == 2 and 'ActiveTransform' in w[0]['message'], w"
+"$bin" check "$tmp/missing.pbrt" > "$tmp/check-missing.txt" 2>&1
+check "check of a missing file exits 1" test $? -eq 1
+check "check of a missing file says so" grep -q "missing.pbrt: FAILED" "$tmp/check-missing.txt"
+
 echo "cli: $pass passed, $fail failed"
 test "$fail" -eq 0

@@ -4,12 +4,17 @@
 #include <cstdlib>
 #include <mutex>
 #include <set>
+#include <utility>
+#include <vector>
+
+#include "steradian/core/error_list.h"
 
 namespace sr {
 namespace {
 std::mutex g_warn_mutex;
 bool g_quiet = false;
 std::set<std::string> g_seen;
+std::vector<ErrorEntry>* g_capture = nullptr;  ///< the live WarningCapture's list, if any
 }  // namespace
 
 std::string printable(std::string_view text, size_t max_chars) {
@@ -59,9 +64,29 @@ std::string terminal_safe(std::string_view text) {
 
 void warning(const SourceLoc& loc, const std::string& msg) {
     std::lock_guard lock(g_warn_mutex);
+    if (g_capture) {
+        g_capture->push_back({loc, msg, false});
+        return;
+    }
     std::string line = loc.file.empty() ? msg : loc.to_string() + ": " + msg;
     if (g_quiet || !g_seen.insert(line).second) return;
     std::fprintf(stderr, "warning: %s\n", terminal_safe(line).c_str());
+}
+
+WarningCapture::WarningCapture() {
+    std::lock_guard lock(g_warn_mutex);
+    SR_CHECK(g_capture == nullptr);
+    g_capture = &m_warnings;
+}
+
+WarningCapture::~WarningCapture() {
+    std::lock_guard lock(g_warn_mutex);
+    g_capture = nullptr;
+}
+
+std::vector<ErrorEntry> WarningCapture::take() {
+    std::lock_guard lock(g_warn_mutex);
+    return std::exchange(m_warnings, {});
 }
 
 void set_warnings_quiet(bool quiet) {

@@ -4,6 +4,7 @@
 /// named materials and textures, converts spectra (with pbrt-v4's photometric
 /// normalisation of lights), reads meshes, and builds the acceleration structure. The
 /// builder's stages are in scene/build/, one file for each kind of thing built.
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,12 +14,22 @@
 
 namespace sr {
 
+/// By default, at most this many unsupported features and unknown parameters are recorded
+/// before the build stops; they are all reported together.
+inline constexpr size_t kMaxReportedUnsupported = 20;
+
 struct BuildOptions {
     /// Overrides the Sampler's pixel samples when > 0 (so the camera sampler can size
     /// itself; the render options pass the same value).
     int spp_override = 0;
+    /// The most unsupported features and unknown parameters recorded before the build stops
+    /// (`steradian check` raises it to list a scene's every one).
+    size_t max_unsupported = kMaxReportedUnsupported;
 };
 
+/// Throws sr::Error at the first error that is not an unsupported feature; unsupported
+/// features and unknown parameters are recorded and thrown together, as an sr::ErrorList
+/// (core/error_list.h) when there are several.
 Scene build_scene(const SceneDesc& desc, const BuildOptions& options = {});
 
 /// The spectrum of a parameter (rgb, spectrum pairs or name/file, blackbody) interpreted as

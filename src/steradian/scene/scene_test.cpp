@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "steradian/core/error_list.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 
@@ -234,6 +236,78 @@ TEST(SceneBuild, OneUnsupportedThingIsReportedAsBeforeAndTheListStopsAt20) {
     EXPECT_NE(mixed.find("\nt.pbrt:3:1: Shape \"sphere\": radius must be positive"),
               std::string::npos)
         << mixed;
+}
+
+/// The ErrorList build_scene() throws for `desc` with `max_unsupported`, if it throws one.
+std::optional<ErrorList> build_error_list(const SceneDesc& desc, size_t max_unsupported) {
+    BuildOptions o;
+    o.max_unsupported = max_unsupported;
+    try {
+        build_scene(desc, o);
+    } catch (const ErrorList& e) {
+        return e;
+    }
+    return std::nullopt;
+}
+
+TEST(SceneBuild, TheListIsAnErrorListOfLocatedEntriesAndItsLimitIsAnOption) {
+    // steradian check reads the entries, not the message: each keeps its location, the
+    // unsupported ones are marked, and an error that stops the build comes last.
+    std::string text = "WorldBegin\n";
+    for (int i = 0; i < 30; ++i) text += "Shape \"curve\"\n";
+    text += "Shape \"sphere\" \"float radius\" -1\n";
+    set_warnings_quiet(true);
+    const SceneDesc desc = parse_pbrt_string(text, "t.pbrt");
+    set_warnings_quiet(false);
+    const std::optional<ErrorList> all = build_error_list(desc, 1000);
+    ASSERT_TRUE(all);
+    ASSERT_EQ(all->entries().size(), 31u);
+    EXPECT_FALSE(all->truncated());
+    for (int i = 0; i < 30; ++i) {
+        EXPECT_EQ(all->entries()[i].loc.line, 2 + i);
+        EXPECT_EQ(all->entries()[i].loc.column, 1);
+        EXPECT_TRUE(all->entries()[i].unsupported);
+        EXPECT_EQ(all->entries()[i].message,
+                  "shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
+    }
+    EXPECT_EQ(all->entries()[30].loc.line, 32);
+    EXPECT_FALSE(all->entries()[30].unsupported);
+    const std::optional<ErrorList> five = build_error_list(desc, 5);
+    ASSERT_TRUE(five);
+    EXPECT_EQ(five->entries().size(), 5u);
+    EXPECT_TRUE(five->truncated());
+    // One problem is thrown as it was, and error_entries() still gives it as one entry.
+    try {
+        build_scene(parse_pbrt_string("WorldBegin\nShape \"curve\"\n", "t.pbrt"));
+        ADD_FAILURE() << "the scene built";
+    } catch (const Error& e) {
+        EXPECT_EQ(dynamic_cast<const ErrorList*>(&e), nullptr);
+        const std::vector<ErrorEntry> one = error_entries(e);
+        ASSERT_EQ(one.size(), 1u);
+        EXPECT_EQ(one[0].loc.line, 2);
+        EXPECT_TRUE(one[0].unsupported);
+    }
+}
+
+TEST(Warnings, ACaptureCollectsEveryWarningWithItsLocationInsteadOfPrintingIt) {
+    std::vector<ErrorEntry> got;
+    {
+        WarningCapture capture;
+        // Motion blur is not supported: a warning at each ActiveTransform, the same message
+        // twice, both kept (the printed warnings show each distinct one once).
+        parse_pbrt_string("ActiveTransform EndTime\nActiveTransform All\n"
+                          "ActiveTransform EndTime\nWorldBegin\n",
+                          "w.pbrt");
+        got = capture.take();
+        EXPECT_TRUE(capture.take().empty());
+    }
+    ASSERT_EQ(got.size(), 2u);
+    EXPECT_EQ(got[0].loc.file, "w.pbrt");
+    EXPECT_EQ(got[0].loc.line, 1);
+    EXPECT_EQ(got[1].loc.line, 3);
+    EXPECT_EQ(got[0].message, got[1].message);
+    EXPECT_NE(got[0].message.find("motion blur"), std::string::npos) << got[0].message;
+    EXPECT_FALSE(got[0].unsupported);
 }
 
 TEST(SceneBuild, SpotConeFalloffIsConedeltaangle) {

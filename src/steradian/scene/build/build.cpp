@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <tuple>
 
+#include "steradian/core/error_list.h"
 #include "steradian/scene/build/builder.h"
 
 namespace sr {
@@ -23,14 +24,16 @@ Scene Builder::build() {
 void Builder::fail(const Error* last) {
     m_failed = true;
     const size_t n = m_unsupported.size() + (last ? 1 : 0);
-    if (n == 1) throw last ? *last : m_unsupported.front();  // as it was thrown
+    if (n == 1) {  // as it was thrown (an UnsupportedError stays one)
+        if (last) throw *last;
+        throw m_unsupported.front();
+    }
+    const bool truncated = m_unsupported.size() >= m_o.max_unsupported;
     std::string msg = fmt::format(
         "the scene cannot be rendered: {} unsupported features or unknown parameters{} (see "
         "docs/pbrt-support.md){}:",
         m_unsupported.size(),
-        m_unsupported.size() >= kMaxReportedUnsupported
-            ? fmt::format(" (stopped at the first {})", kMaxReportedUnsupported)
-            : "",
+        truncated ? fmt::format(" (stopped at the first {})", m_o.max_unsupported) : "",
         last ? ", then an error" : "");
     // In the order of the files (the build's order is by kind: textures, materials, shapes...).
     std::stable_sort(m_unsupported.begin(), m_unsupported.end(),
@@ -38,9 +41,17 @@ void Builder::fail(const Error* last) {
                          return std::tie(a.loc().file, a.loc().line, a.loc().column) <
                                 std::tie(b.loc().file, b.loc().line, b.loc().column);
                      });
-    for (const UnsupportedError& e : m_unsupported) msg += fmt::format("\n{}", e.what());
-    if (last) msg += fmt::format("\n{}", last->what());
-    throw Error(msg);
+    std::vector<ErrorEntry> entries;
+    for (const UnsupportedError& e : m_unsupported) {
+        msg += fmt::format("\n{}", e.what());
+        entries.push_back({e.loc(), e.message(), true});
+    }
+    if (last) {
+        msg += fmt::format("\n{}", last->what());
+        std::vector<ErrorEntry> more = error_entries(*last);
+        entries.insert(entries.end(), more.begin(), more.end());
+    }
+    throw ErrorList(msg, std::move(entries), truncated);
 }
 
 }  // namespace build_detail

@@ -44,9 +44,6 @@ inline void check_position(Point3 p, const SourceLoc& loc, std::string_view what
                         "+-{:g}", what, p.x, p.y, p.z, kMaxCoordinate);
 }
 
-/// At most this many unsupported features and unknown parameters are reported in one run.
-inline constexpr size_t kMaxReportedUnsupported = 20;
-
 class Builder {
   public:
     Builder(const SceneDesc& d, const BuildOptions& o) : m_d(d), m_o(o) {}
@@ -63,7 +60,7 @@ class Builder {
             return true;
         } catch (const UnsupportedError& e) {
             m_unsupported.push_back(e);
-            if (m_unsupported.size() >= kMaxReportedUnsupported) fail(nullptr);
+            if (m_unsupported.size() >= m_o.max_unsupported) fail(nullptr);
             return false;
         }
     }
