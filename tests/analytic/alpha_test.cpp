@@ -118,5 +118,55 @@ Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
     EXPECT_NEAR(v, 0.7 * kPiD, kZ * se) << "se " << se;
 }
 
+/// The configuration factor from an upward patch at the origin to the parallel rectangle
+/// [0, a] x [0, b] at height h (a, b of either sign: the rectangle on that side), Howell's
+/// catalogue B-2 extended as an odd function so that rectangles add up by superposition.
+double corner(double a, double b, double h) {
+    const double X = std::abs(a) / h, Y = std::abs(b) / h;
+    const double sx = std::sqrt(1 + X * X), sy = std::sqrt(1 + Y * Y);
+    const double f = (X / sx * std::atan(Y / sx) + Y / sy * std::atan(X / sy)) / (2 * kPiD);
+    return (a < 0) != (b < 0) ? -f : f;
+}
+/// The factor of [x1, x2] x [y1, y2] at height h seen from (px, py).
+double rect_factor(double x1, double x2, double y1, double y2, double px, double py, double h) {
+    return corner(x2 - px, y2 - py, h) - corner(x1 - px, y2 - py, h) -
+           corner(x2 - px, y1 - py, h) + corner(x1 - px, y1 - py, h);
+}
+
+TEST(Alpha, AnEmitterEmitsOnlyWhereItIsNotCutOut) {
+    // pbrt-v4 masks an area light's emission by its alpha (where light samples land and
+    // where rays hit it). A 2 x 2 two-sided emitter of luminance 1 at height 1 cut by a
+    // checkerboard alpha into quadrants: only x < 0, y < 0 and x > 0, y > 0 emit. The
+    // illuminance of an upward meter below is pi L times those quadrants' factors (in the
+    // dark, one bounce of black surroundings).
+    const std::string text = R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 4 ] "integer yresolution" [ 4 ]
+WorldBegin
+Texture "cut" "float" "checkerboard" "float tex1" [ 1 ] "float tex2" [ 0 ]
+    "float uscale" [ 2 ] "float vscale" [ 2 ]
+AreaLightSource "diffuse" "spectrum L" [ 300 1 900 1 ] "bool twosided" true
+Material "diffuse" "spectrum reflectance" [ 300 0 900 0 ]
+Shape "bilinearmesh" "point3 P" [ -1 -1 1  1 -1 1  -1 1 1  1 1 1 ]
+    "point2 uv" [ 0 0  1 0  0 1  1 1 ] "texture alpha" "cut"
+Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "point3 p" [ 0.5 -0.25 0 ] "normal n" [ 0 0 1 ]
+)";
+    Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
+    MeasureOptions o;
+    o.rel_error = 2e-3;
+    o.threads = 2;
+    MeasureResult r = measure(s, o);
+    const double px[2] = {0, 0.5}, py[2] = {0, -0.25};
+    for (int i = 0; i < 2; ++i) {
+        const double f = rect_factor(-1, 0, -1, 0, px[i], py[i], 1) +
+                         rect_factor(0, 1, 0, 1, px[i], py[i], 1);
+        const double v = r.readings[size_t(i)].values[0], se = r.readings[size_t(i)].stderrs[0];
+        std::printf("alpha emitter at (%g, %g): E = %.5f +- %.5f, expected %.5f\n", px[i], py[i],
+                    v, se, kPiD * f);
+        EXPECT_NEAR(v, kPiD * f, kZ * se + 1e-4 * kPiD * f);
+    }
+}
+
 }  // namespace
 }  // namespace sr::test

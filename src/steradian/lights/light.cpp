@@ -1,5 +1,6 @@
 #include "steradian/lights/light.h"
 
+#include "steradian/sampling/hash.h"
 #include "steradian/sampling/warp.h"
 
 namespace sr {
@@ -155,7 +156,7 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
     if (dist2 == 0) return r;
     Vec3 wi = d / std::sqrt(dist2);
     SampledSpectrum L = l(ss.n, -wi, lambda);
-    if (L.is_zero()) return r;
+    if (L.is_zero() || (alpha && masked(ss.p))) return r;
 #if defined(__clang__) && __clang_major__ < 16
     // Clang before 16 lacks C++20's parenthesized aggregate initialisation (P0960).
     r = LightLiSample{L, wi, ss.pdf, ss.p, ss.p_error, ss.n};
@@ -163,6 +164,32 @@ std::optional<LightLiSample> DiffuseAreaLight::sample_li(const LightSampleContex
     r.emplace(L, wi, ss.pdf, ss.p, ss.p_error, ss.n);
 #endif
     return r;
+}
+
+bool DiffuseAreaLight::masked(Point3 p) const {
+    if (!alpha) return false;
+    SurfaceHit h;
+    if (mesh) {
+        // Barycentrics of p in the triangle (least squares in its plane).
+        const Triangle& t = *triangle;
+        const Vec3 e1 = t.p1 - t.p0, e2 = t.p2 - t.p0, q = p - t.p0;
+        const Float a11 = dot(e1, e1), a12 = dot(e1, e2), a22 = dot(e2, e2);
+        const Float det = a11 * a22 - a12 * a12;
+        if (!(det > 0)) return false;
+        const Float b1 = (a22 * dot(q, e1) - a12 * dot(q, e2)) / det;
+        const Float b2 = (a11 * dot(q, e2) - a12 * dot(q, e1)) / det;
+        mesh->fill_hit(prim, b1, b2, h);
+    } else if (sphere) {
+        sphere->fill_hit(sphere->world_from_object.inverse().point(p), h);
+    } else if (disk) {
+        disk->fill_hit(disk->world_from_object.inverse().point(p), h);
+    } else {
+        return false;
+    }
+    const Float a = alpha->alpha(h);
+    if (a >= 1) return false;
+    if (!(a > 0)) return true;
+    return Float(double(hash(p.x, p.y, p.z) >> 11) * 0x1p-53) > a;
 }
 
 Float DiffuseAreaLight::pdf_li_point(const LightSampleContext& ctx, Point3 p_light,

@@ -9,6 +9,7 @@
 #include <variant>
 
 #include "steradian/core/transform.h"
+#include "steradian/geometry/scene_geometry.h"
 #include "steradian/geometry/shapes.h"
 #include "steradian/lights/photometric/photometric.h"
 #include "steradian/sampling/distribution.h"
@@ -258,6 +259,17 @@ struct DiffuseAreaLight {
     /// its intensity distribution (both faces of a flat opening emit) and `radiance`,
     /// `scale` and `two_sided` are unused.
     std::shared_ptr<const GoniometricEmission> goniometric;
+    /// The emitting shape's "alpha" cut-out, if any, with what locates a point on it: the
+    /// mesh and triangle (for meshes; sphere and disk are above).
+    const AlphaMask* alpha = nullptr;
+    const TriangleMesh* mesh = nullptr;
+    uint32_t prim = 0;
+
+    /// pbrt-v4's AlphaMasked for emission: whether the point p of this light's surface
+    /// emits nothing because of its alpha: always where alpha <= 0, never where alpha >= 1,
+    /// and in between where a hash of p, uniform in [0, 1), exceeds alpha. (pbrt-v4 tests
+    /// this both where a light sample lands and where a ray hits the light.)
+    bool masked(Point3 p) const;
 
     /// Emitted radiance leaving a point with geometric normal n in direction w.
     SampledSpectrum l(Normal3 n, Vec3 w, const SampledWavelengths& lambda) const {

@@ -191,6 +191,7 @@ private:
     void emitted(const SurfaceHit& hit) {
         if (!counted()) return;
         const auto& area = std::get<DiffuseAreaLight>(m_scene.lights[hit.light]);
+        if (area.alpha && area.masked(hit.p)) return;
         SampledSpectrum le = area.l(hit.ng, hit.wo, m_lambda);
         if (le.is_zero()) return;
         Float p_l = (m_depth == 0 || m_specular_bounce || !m_use_nee)

@@ -222,6 +222,7 @@ class VolPath {
 
     void emitted(const SurfaceHit& hit) {
         const auto& area = std::get<DiffuseAreaLight>(m_scene.lights[size_t(hit.light)]);
+        if (area.alpha && area.masked(hit.p)) return;
         SampledSpectrum le = area.l(hit.ng, hit.wo, m_lambda);
         if (le.is_zero()) return;
         if (m_depth == 0 || m_specular_bounce) {

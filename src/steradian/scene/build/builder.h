@@ -165,16 +165,23 @@ class Builder {
             for (size_t i = 0; i < mesh->num_triangles(); ++i) {
                 DiffuseAreaLight dl = make(mesh->triangle_area(i));
                 dl.triangle = mesh->triangle(i);
+                if (e.alpha) {
+                    dl.alpha = e.alpha.get();
+                    dl.mesh = mesh;
+                    dl.prim = uint32_t(i);
+                }
                 s.lights.push_back(dl);
             }
         } else if (auto* sp = std::get_if<Sphere>(&e.geometry)) {
             DiffuseAreaLight dl = make(sp->area());
             dl.sphere = sp;
+            dl.alpha = e.alpha.get();
             s.lights.push_back(dl);
         } else {
             auto* d = std::get_if<Disk>(&e.geometry);
             DiffuseAreaLight dl = make(d->area());
             dl.disk = d;
+            dl.alpha = e.alpha.get();
             s.lights.push_back(dl);
         }
     }

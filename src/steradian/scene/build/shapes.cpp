@@ -409,9 +409,6 @@ void Builder::add_shape(const ShapeDesc& s, Prototype* proto) {
     if (s.area_light >= 0 && std::holds_alternative<Curves>(e.geometry))
         throw_unsupported(s.loc, "an emitting curve (area light) is not supported (pbrt-v4 "
                                  "cannot sample points on curves either)");
-    if (s.area_light >= 0 && e.alpha)
-        throw_unsupported(s.params.find("alpha")->loc,
-                          "\"alpha\" on an emitting shape (area light) is not supported yet");
     if (s.area_light >= 0) {
         if (proto)
             throw_error(s.loc, "area lights are not supported inside ObjectBegin (as in pbrt-v4)");
