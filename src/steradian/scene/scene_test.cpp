@@ -254,7 +254,7 @@ TEST(SceneBuild, TheListIsAnErrorListOfLocatedEntriesAndItsLimitIsAnOption) {
     // steradian check reads the entries, not the message: each keeps its location, the
     // unsupported ones are marked, and an error that stops the build comes last.
     std::string text = "WorldBegin\n";
-    for (int i = 0; i < 30; ++i) text += "Shape \"curve\"\n";
+    for (int i = 0; i < 30; ++i) text += "Shape \"heightfield\"\n";
     text += "Shape \"sphere\" \"float radius\" -1\n";
     set_warnings_quiet(true);
     const SceneDesc desc = parse_pbrt_string(text, "t.pbrt");
@@ -268,7 +268,7 @@ TEST(SceneBuild, TheListIsAnErrorListOfLocatedEntriesAndItsLimitIsAnOption) {
         EXPECT_EQ(all->entries()[i].loc.column, 1);
         EXPECT_TRUE(all->entries()[i].unsupported);
         EXPECT_EQ(all->entries()[i].message,
-                  "shape type \"curve\" is not supported yet (see docs/pbrt-support.md)");
+                  "shape type \"heightfield\" is not supported yet (see docs/pbrt-support.md)");
     }
     EXPECT_EQ(all->entries()[30].loc.line, 32);
     EXPECT_FALSE(all->entries()[30].unsupported);
@@ -278,7 +278,7 @@ TEST(SceneBuild, TheListIsAnErrorListOfLocatedEntriesAndItsLimitIsAnOption) {
     EXPECT_TRUE(five->truncated());
     // One problem is thrown as it was, and error_entries() still gives it as one entry.
     try {
-        build_scene(parse_pbrt_string("WorldBegin\nShape \"curve\"\n", "t.pbrt"));
+        build_scene(parse_pbrt_string("WorldBegin\nShape \"heightfield\"\n", "t.pbrt"));
         ADD_FAILURE() << "the scene built";
     } catch (const Error& e) {
         EXPECT_EQ(dynamic_cast<const ErrorList*>(&e), nullptr);
