@@ -264,11 +264,19 @@ WorldBegin
     MeasureResult with = measure_text(head + portal + ceiling, 2e-3);
     MeasureResult without = measure_text(
         head + R"(LightSource "infinite" "string filename" "white.pfm")" + ceiling, 2e-3);
-    for (const MeasureResult* m : {&with, &without}) {
+    // pbrt-v4 makes a portal light of a constant "L" a 1 x 1 map of L's sRGB: an
+    // equal-energy spectrum of luminance 1 gives the same illuminance.
+    MeasureResult with_l = measure_text(
+        head +
+            R"(LightSource "infinite" "spectrum L" [ 300 1 900 1 ] "point3 portal" [ -0.5 -0.3 1  -0.5 0.3 1  0.5 0.3 1  0.5 -0.3 1 ])" +
+            ceiling,
+        2e-3);
+    for (const MeasureResult* m : {&with, &without, &with_l}) {
         const double a = m->readings[0].values[0], sa = m->readings[0].stderrs[0];
         const double b = m->readings[1].values[0], sb = m->readings[1].stderrs[0];
         std::printf("%s portal: E = %.5f +- %.5f (%.5f), %.5f +- %.5f (%.5f)\n",
-                    m == &with ? "with" : "without", a, sa, e_centre, b, sb, e_off);
+                    m == &with ? "with" : m == &with_l ? "L with" : "without", a, sa, e_centre, b,
+                    sb, e_off);
         EXPECT_NEAR(a, e_centre, kZ * sa + kUplift * e_centre);
         EXPECT_NEAR(b, e_off, kZ * sb + kUplift * e_off);
     }

@@ -157,13 +157,25 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         dl.scene_radius = radius;
         ps.check_unused(what);
         s.lights.push_back(dl);
-    } else if (l.type == "infinite" && ps.find("filename")) {
-        if (ps.find_spectrum("L"))
-            throw_error(l.loc, "{}: both \"L\" and \"filename\" given; pbrt-v4 takes one",
-                        what);
+    } else if (l.type == "infinite" && (ps.find("filename") || ps.find("portal"))) {
         ImageInfiniteLight il;
-        const std::string file = resolve_path(m_d.base_dir, ps.get_string("filename", ""));
-        il.map = environment_map(file, l.loc, what);
+        if (ps.find("filename")) {
+            if (ps.find_spectrum("L"))
+                throw_error(l.loc, "{}: both \"L\" and \"filename\" given; pbrt-v4 takes one",
+                            what);
+            const std::string file = resolve_path(m_d.base_dir, ps.get_string("filename", ""));
+            il.map = environment_map(file, l.loc, what);
+        } else {
+            // A portal with a constant "L": as pbrt-v4, a 1 x 1 map of L's linear sRGB
+            // (its XYZ through the sRGB matrix), normalised as image maps are below.
+            const Xyz xyz = spectrum_to_xyz(illum_param(ps, "L"));
+            const Rgb c = xyz_to_linear_srgb(xyz);
+            try {
+                il.map = make_environment_map({c.r, c.g, c.b}, 1, 1);
+            } catch (const Error& e) {
+                throw_error(l.loc, "{}: {}", what, e.what());
+            }
+        }
         Float sc = ps.get_float("scale", 1);
         // RGB texels are illuminants of the sRGB white (pbrt-v4 divides by the photometric
         // value of the image's colour space's illuminant).
@@ -190,11 +202,6 @@ void Builder::add_light(Scene& s, const LightDesc& l, Point3 center, Float radiu
         s.infinite_lights.push_back(int(s.lights.size()));
         s.lights.push_back(il);
     } else if (l.type == "infinite") {
-        if (ps.find("portal"))
-            throw_unsupported(l.loc,
-                              "{}: a portal with a uniform \"L\" is not supported (give the "
-                              "light an image \"filename\")",
-                              what);
         UniformInfiniteLight il;
         Spectrum L = illum_param(ps, "L");
         il.radiance = densely_sampled(L);
