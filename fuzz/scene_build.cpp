@@ -3,6 +3,7 @@
 // Embree structure; nothing is rendered). An accepted scene must have finite bounds, camera
 // rays, light powers and selection probabilities, and film factors.
 #include "fuzz_target.h"
+#include "steradian/core/error_list.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 
@@ -73,10 +74,13 @@ STERADIAN_FUZZ_TARGET(scene_build) {
     } catch (const sr::Error& e) {
         sr::fuzz::note_rejection(e);
         // Errors of the builder are located at the directive or parameter (or name a file
-        // the scene reads).
-        if (e.loc().file.empty()) {
-            std::fprintf(stderr, "build error without a location: %s\n", e.what());
-            std::abort();
-        }
+        // the scene reads). Several at once come as an sr::ErrorList, which has no location
+        // of its own: each of its entries must have one.
+        for (const sr::ErrorEntry& entry : sr::error_entries(e))
+            if (entry.loc.file.empty()) {
+                std::fprintf(stderr, "build error without a location: %s\n",
+                             entry.message.c_str());
+                std::abort();
+            }
     }
 }
