@@ -4,6 +4,7 @@
 /// enforce the geometric-normal side test against light leaks.
 #include <array>
 #include <concepts>
+#include <type_traits>
 #include <utility>
 #include <variant>
 
@@ -134,6 +135,25 @@ class Bsdf {
         Vec3 wo = m_frame.to_local(wo_w), wi = m_frame.to_local(wi_w);
         if (wo.z == 0) return 0;
         return std::visit([&](const auto& l) { return l.pdf(wo, wi, mode); }, m_lobe);
+    }
+    /// Widens the microfacet distributions as pbrt-v4's BSDF::Regularize does (see
+    /// TrowbridgeReitz::regularize): dielectric and conductor lobes, and both layers of the
+    /// coated ones. Diffuse, thin dielectric, hair, measured and the classic lobes are left
+    /// as they are (pbrt-v4's are no-ops too; its thin dielectric's is a TODO).
+    void regularize() {
+        std::visit(
+            [](auto& l) {
+                using L = std::decay_t<decltype(l)>;
+                if constexpr (std::is_same_v<L, DielectricLobe> || std::is_same_v<L, ConductorLobe>)
+                    l.mf.regularize();
+                else if constexpr (std::is_same_v<L, CoatedDiffuseLobe>)
+                    l.top.mf.regularize();
+                else if constexpr (std::is_same_v<L, CoatedConductorLobe>) {
+                    l.top.mf.regularize();
+                    l.bottom.mf.regularize();
+                }
+            },
+            m_lobe);
     }
     const Frame& frame() const { return m_frame; }
     Normal3 ng() const { return m_ng; }

@@ -78,5 +78,42 @@ TEST(BsdfUsesUc, LobesThatSayTheyIgnoreUcSampleTheSameForAnyUc) {
     EXPECT_LT(t->wi.z, 0);
 }
 
+
+// pbrt-v4's TrowbridgeReitzDistribution::Regularize: an alpha below 0.3 becomes
+// clamp(2 alpha, 0.1, 0.3), per axis; Bsdf::regularize applies it to dielectric and conductor
+// lobes and to both layers of a coated conductor, and leaves a Lambertian lobe alone.
+TEST(BsdfRegularize, AlphaIsDoubledAndClampedAsPbrtV4) {
+    TrowbridgeReitz mf{0.0f, 0.12f};
+    mf.regularize();
+    EXPECT_FLOAT_EQ(mf.alpha_x, 0.1f);
+    EXPECT_FLOAT_EQ(mf.alpha_y, 0.24f);
+    mf = TrowbridgeReitz{0.2f, 0.5f};
+    mf.regularize();
+    EXPECT_FLOAT_EQ(mf.alpha_x, 0.3f);
+    EXPECT_FLOAT_EQ(mf.alpha_y, 0.5f);
+
+    const Frame frame = Frame::from_z(Vec3(0, 0, 1));
+    DielectricLobe glass;
+    glass.eta = 1.5f;
+    Bsdf b(frame, Normal3(0, 0, 1), glass);
+    EXPECT_TRUE(b.is_specular_only());
+    b.regularize();
+    EXPECT_FALSE(b.is_specular_only());
+    EXPECT_FLOAT_EQ(std::get<DielectricLobe>(b.lobe()).mf.alpha_x, 0.1f);
+
+    CoatedConductorLobe coated;
+    coated.top.eta = 1.5f;
+    coated.bottom.mf = TrowbridgeReitz{0.05f, 0.05f};
+    Bsdf c(frame, Normal3(0, 0, 1), coated);
+    c.regularize();
+    EXPECT_FLOAT_EQ(std::get<CoatedConductorLobe>(c.lobe()).top.mf.alpha_y, 0.1f);
+    EXPECT_FLOAT_EQ(std::get<CoatedConductorLobe>(c.lobe()).bottom.mf.alpha_x, 0.1f);
+
+    Bsdf d(frame, Normal3(0, 0, 1), LambertLobe{SampledSpectrum(0.5f)});
+    const uint8_t before = d.flags();
+    d.regularize();
+    EXPECT_EQ(d.flags(), before);
+}
+
 }  // namespace
 }  // namespace sr

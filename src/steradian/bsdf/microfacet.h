@@ -10,6 +10,8 @@
 ///
 /// All directions are unit vectors in the local shading frame (z = macro-surface normal).
 /// Microfacet normals wm lie in the upper hemisphere (wm.z > 0).
+#include <algorithm>
+
 #include "steradian/bsdf/bxdf_common.h"
 
 namespace sr {
@@ -25,6 +27,15 @@ struct TrowbridgeReitz {
     /// True if the surface is so smooth that it is treated as a perfect specular interface
     /// (max alpha < 1e-3): the lobe then uses Dirac deltas and never evaluates D.
     bool effectively_smooth() const { return std::max(alpha_x, alpha_y) < Float(1e-3); }
+
+    /// pbrt-v4's path regularization (TrowbridgeReitzDistribution::Regularize, applied by its
+    /// path integrators with "bool regularize" after the first non-specular bounce): an alpha
+    /// below 0.3 is doubled and clamped to [0.1, 0.3], so a mirror becomes a lobe of alpha 0.1
+    /// and paths such as light -> mirror -> diffuse -> camera become reachable (biased).
+    void regularize() {
+        if (alpha_x < Float(0.3)) alpha_x = std::clamp(2 * alpha_x, Float(0.1), Float(0.3));
+        if (alpha_y < Float(0.3)) alpha_y = std::clamp(2 * alpha_y, Float(0.1), Float(0.3));
+    }
 
     /// Distribution of normals D(wm) (per steradian of wm), normalised so that the projected
     /// microfacet area equals the macro-surface area: integral of D(wm) cos(theta_m) dwm = 1.

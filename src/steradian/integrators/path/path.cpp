@@ -84,6 +84,8 @@ public:
                     ? make_bsdf(m_scene.materials[hit.material], m_mctx, hit, m_lambda)
                     : std::nullopt;
             if (m_visible && bsdf && m_depth == 0) visible(hit, *bsdf);
+            // pbrt-v4's "regularize": after a non-specular bounce, near-specular lobes widen.
+            if (bsdf && m_any_non_specular && m_cfg.regularize) bsdf->regularize();
             if (!bsdf) {
                 // Interface: continue straight through without counting a bounce (bounded,
                 // in case a degenerate surface keeps returning the same hit).
@@ -122,6 +124,7 @@ public:
         m_beta *= bs->f * (bs->cos_over_pdf > 0 ? bs->cos_over_pdf
                                                  : absdot(bs->wi, hit.ns) / bs->pdf_sa);
         m_specular_bounce = bs->is_specular();
+        m_any_non_specular |= !m_specular_bounce;
         m_prev_pdf_sa = bs->pdf_sa;
         if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
         next = spawn_ray(hit, bs->wi);
@@ -253,6 +256,7 @@ private:
 
     SampledSpectrum m_beta{1};
     bool m_specular_bounce = false;
+    bool m_any_non_specular = false;  ///< pbrt-v4's anyNonSpecularBounces (regularize)
     Float m_eta_scale = 1;
     Float m_prev_pdf_sa = 0;
     LightSampleContext m_prev_ctx;

@@ -74,6 +74,9 @@ class VolPath {
                 hit.material >= 0
                     ? make_bsdf(m_scene.materials[hit.material], m_mctx, hit, m_lambda)
                     : std::nullopt;
+            // pbrt-v4's "regularize": after a non-specular bounce (or a medium scattering),
+            // near-specular lobes widen.
+            if (bsdf && m_any_non_specular && m_scene.integrator.regularize) bsdf->regularize();
             if (!bsdf) {
                 // An interface: the ray goes on, into the medium on the far side.
                 if (++crossings > 256) return;
@@ -99,6 +102,7 @@ class VolPath {
             m_beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
             m_r_l = m_r_u / bs->pdf_sa;
             m_specular_bounce = bs->is_specular();
+            m_any_non_specular |= !m_specular_bounce;
             if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
             medium = medium_after(hit, bs->wi, medium);
             ray = spawn_ray(hit, bs->wi);
@@ -172,6 +176,7 @@ class VolPath {
             m_r_l = m_r_u / ps.p;
             m_prev_ctx = LightSampleContext{p, Vec3(0, 0, 0), Normal3(0, 0, 0)};
             m_specular_bounce = false;
+            m_any_non_specular = true;
             scattered = true;
             next = Ray{p, ps.wi, kInfinity};
             return false;
@@ -339,6 +344,7 @@ class VolPath {
 
     SampledSpectrum m_beta{1}, m_r_u{1}, m_r_l{1};
     bool m_specular_bounce = false;
+    bool m_any_non_specular = false;  ///< pbrt-v4's anyNonSpecularBounces (regularize)
     Float m_eta_scale = 1;
     LightSampleContext m_prev_ctx;
     int m_depth = 0;

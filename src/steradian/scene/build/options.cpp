@@ -283,7 +283,6 @@ void Builder::build_integrator(const EntityDesc& e) {
         m_volpath = type == "volpath";
         is.max_depth = ps.get_int("maxdepth", 5);
         is.regularize = ps.get_bool("regularize", false);
-        if (is.regularize) throw_unsupported(e.loc, "\"regularize\" is not supported yet");
         std::string strategy = ps.get_string("strategy", "mis");
         if (strategy == "mis")
             is.strategy = LightStrategy::Mis;

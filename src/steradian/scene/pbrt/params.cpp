@@ -1,5 +1,6 @@
 /// The pbrt reader's parameter lists: declarations, typed values and their counts, the
 /// Attribute defaults merged into an entity's parameters, and Option values.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <limits>
@@ -92,11 +93,28 @@ std::vector<Param> Parser::parse_params(Stream& s) {
             break;
         }
         Param p = parse_param(s, t);
-        for (const Param& q : out)
-            if (q.name == p.name)
-                throw_error(p.loc, "duplicate parameter \"{}\" (first given at {})", p.name,
-                            q.loc.to_string());
-        out.push_back(std::move(p));
+        // pbrt-v4 looks parameters up in reverse order of the list, so the last of two with
+        // one name wins and the first is silently shadowed (ParameterDictionary's
+        // constructor reverses the list; ReportUnused accepts a shadowed one). We do the
+        // same and say so. Different types under one name cannot both be meant: an error
+        // (pbrt-v4 would report one of them as unused), except among the colour types,
+        // which pbrt-v4's spectrum lookup matches by name alone.
+        auto is_colour = [](ParamType k) {
+            return k == ParamType::Rgb || k == ParamType::Blackbody || k == ParamType::Spectrum;
+        };
+        auto same = std::find_if(out.begin(), out.end(),
+                                 [&](const Param& q) { return q.name == p.name; });
+        if (same == out.end()) {
+            out.push_back(std::move(p));
+        } else if (same->type == p.type || (is_colour(same->type) && is_colour(p.type))) {
+            warning(p.loc, fmt::format("parameter \"{}\" given again (first at {}): the last "
+                                       "value is used, as pbrt-v4 does",
+                                       p.name, same->loc.to_string()));
+            *same = std::move(p);
+        } else {
+            throw_error(p.loc, "parameter \"{}\" given again with another type (first at {})",
+                        p.name, same->loc.to_string());
+        }
     }
     return out;
 }

@@ -44,7 +44,8 @@
 //   imported file with none; we keep the importer's visible, a superset).
 // - Relative Include/Import paths resolve against the main scene file's directory, as in
 //   pbrt-v4; if the file is not there, against the including file's directory.
-// - Duplicate parameters in one list are an error (pbrt-v4 silently uses the last one).
+// - A parameter given twice in one list: the last is used, with a warning (pbrt-v4 silently
+//   uses the last one); twice with types that cannot both be meant is an error.
 // - Errors are thrown at the first problem; pbrt-v4 defers some of them to the end.
 
 namespace sr::pbrt_detail {

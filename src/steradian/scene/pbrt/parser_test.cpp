@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 
+#include "steradian/core/error_list.h"
 #include "steradian/core/input_file.h"
 
 namespace sr {
@@ -656,9 +657,35 @@ TEST_F(PbrtParser, ErrorUnknownParameterType) {
     expect_error("WorldBegin\nShape \"x\" \"float\" 1", "malformed parameter declaration", 2, 11);
 }
 
-TEST_F(PbrtParser, ErrorDuplicateParameter) {
-    expect_error("WorldBegin\nShape \"sphere\" \"float radius\" 1\n  \"float radius\" 2",
-                 "duplicate parameter \"radius\" (first given at test.pbrt:2:16)", 3, 3);
+// pbrt-v4's ParameterDictionary reverses each list before looking names up, so the last of
+// two parameters with one name is the one used; the first is shadowed without an error.
+TEST_F(PbrtParser, ParameterGivenTwiceTheLastIsUsedWithAWarning) {
+    std::vector<ErrorEntry> warnings;
+    SceneDesc s;
+    {
+        WarningCapture capture;
+        s = parse("WorldBegin\nShape \"sphere\" \"float radius\" 1\n  \"float radius\" 2\n"
+                  "Material \"diffuse\" \"rgb reflectance\" [1 0 0] \"spectrum reflectance\" "
+                  "[400 0.5 700 0.5]\n");
+        warnings = capture.take();
+    }
+    ASSERT_EQ(s.shapes.size(), 1u);
+    const Param* r = s.shapes[0].params.find("radius");
+    ASSERT_NE(r, nullptr);
+    ASSERT_EQ(r->numbers.size(), 1u);
+    EXPECT_EQ(r->numbers[0], 2.0);
+    EXPECT_EQ(r->loc.line, 3);
+    ASSERT_EQ(warnings.size(), 2u);
+    EXPECT_EQ(warnings[0].loc.line, 3);
+    EXPECT_NE(warnings[0].message.find("first at test.pbrt:2:16"), std::string::npos)
+        << warnings[0].message;
+    EXPECT_EQ(warnings[1].loc.line, 4);  // rgb then spectrum: both colours, the spectrum wins
+}
+
+TEST_F(PbrtParser, ErrorParameterGivenTwiceWithAnotherType) {
+    expect_error("WorldBegin\nShape \"sphere\" \"float radius\" 1\n  \"string radius\" \"a\"",
+                 "parameter \"radius\" given again with another type (first at test.pbrt:2:16)",
+                 3, 3);
 }
 
 TEST_F(PbrtParser, ErrorUnbalancedAttributeEnd) {
