@@ -248,7 +248,9 @@ void Builder::build_media() {
         m_medium_index[d.name] = int(m_s.media.size());
         m_s.media.push_back(std::move(m));
     }
-    m_s.integrator.volumetric = m_volpath && !m_s.media.empty();
+    // "path" renders media too, with volpath's estimator: pbrt-v4's PathIntegrator ignores
+    // them (with a warning), which leaves a physically wrong image (docs/pbrt-support.md).
+    m_s.integrator.volumetric = !m_s.media.empty();
     if (m_s.integrator.volumetric) {
         recorded([&] {
             if (m_s.integrator.strategy != LightStrategy::Mis)
@@ -265,8 +267,8 @@ void Builder::build_media() {
     }
     if (!m_volpath && !m_s.media.empty())
         warning(m_d.integrator.loc,
-                "the scene has participating media, which the \"path\" integrator ignores "
-                "(as in pbrt-v4); use \"volpath\"");
+                "the scene has participating media: steradian's \"path\" renders them (as "
+                "\"volpath\"), where pbrt-v4's ignores them");
     m_s.camera_medium = medium_index(m_d.camera.medium, m_d.camera.loc);
 }
 
