@@ -14,6 +14,7 @@
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 #include "support/render_util.h"
+#include "support/view_factors.h"
 
 namespace sr::test {
 namespace {
@@ -34,11 +35,7 @@ Shape "bilinearmesh" "point3 P" [ -1000 -1000 1  1000 -1000 1  -1000 1000 1  100
                              sheet_params + R"(
 Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ] "integer maxdepth" [ 1 ]
 )";
-    Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
-    MeasureOptions o;
-    o.rel_error = 2e-3;
-    o.threads = 2;
-    MeasureResult r = measure(s, o);
+    MeasureResult r = measure_string(text, 2e-3);
     const double v = r.readings[0].values[0], se = r.readings[0].stderrs[0];
     std::printf("%s: E = %.5f +- %.5f\n", sheet_params.c_str(), v, se);
     return v;
@@ -109,28 +106,9 @@ Material "diffuse" "spectrum reflectance" [ 300 0 900 0 ]
 Shape "sphere" "float radius" [ 2 ] "float alpha" [ 0.3 ]
 Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
 )";
-    Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
-    MeasureOptions o;
-    o.rel_error = 2e-3;
-    o.threads = 2;
-    MeasureResult r = measure(s, o);
+    MeasureResult r = measure_string(text, 2e-3);
     const double v = r.readings[0].values[0], se = r.readings[0].stderrs[0];
     EXPECT_NEAR(v, 0.7 * kPiD, kZ * se) << "se " << se;
-}
-
-/// The configuration factor from an upward patch at the origin to the parallel rectangle
-/// [0, a] x [0, b] at height h (a, b of either sign: the rectangle on that side), Howell's
-/// catalogue B-2 extended as an odd function so that rectangles add up by superposition.
-double corner(double a, double b, double h) {
-    const double X = std::abs(a) / h, Y = std::abs(b) / h;
-    const double sx = std::sqrt(1 + X * X), sy = std::sqrt(1 + Y * Y);
-    const double f = (X / sx * std::atan(Y / sx) + Y / sy * std::atan(X / sy)) / (2 * kPiD);
-    return (a < 0) != (b < 0) ? -f : f;
-}
-/// The factor of [x1, x2] x [y1, y2] at height h seen from (px, py).
-double rect_factor(double x1, double x2, double y1, double y2, double px, double py, double h) {
-    return corner(x2 - px, y2 - py, h) - corner(x1 - px, y2 - py, h) -
-           corner(x2 - px, y1 - py, h) + corner(x1 - px, y1 - py, h);
 }
 
 TEST(Alpha, AnEmitterEmitsOnlyWhereItIsNotCutOut) {
@@ -152,15 +130,11 @@ Shape "bilinearmesh" "point3 P" [ -1 -1 1  1 -1 1  -1 1 1  1 1 1 ]
 Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 1 ]
 Meter "illuminance" "point3 p" [ 0.5 -0.25 0 ] "normal n" [ 0 0 1 ]
 )";
-    Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
-    MeasureOptions o;
-    o.rel_error = 2e-3;
-    o.threads = 2;
-    MeasureResult r = measure(s, o);
+    MeasureResult r = measure_string(text, 2e-3);
     const double px[2] = {0, 0.5}, py[2] = {0, -0.25};
     for (int i = 0; i < 2; ++i) {
-        const double f = rect_factor(-1, 0, -1, 0, px[i], py[i], 1) +
-                         rect_factor(0, 1, 0, 1, px[i], py[i], 1);
+        const double f = rectangle_factor(-1, 0, -1, 0, px[i], py[i], 1) +
+                         rectangle_factor(0, 1, 0, 1, px[i], py[i], 1);
         const double v = r.readings[size_t(i)].values[0], se = r.readings[size_t(i)].stderrs[0];
         std::printf("alpha emitter at (%g, %g): E = %.5f +- %.5f, expected %.5f\n", px[i], py[i],
                     v, se, kPiD * f);

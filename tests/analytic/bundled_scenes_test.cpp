@@ -7,6 +7,7 @@
 #include "steradian/integrators/measure.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
+#include "support/render_util.h"
 
 namespace sr::test {
 namespace {
@@ -31,12 +32,9 @@ TEST(BundledScenes, MaterialsGalleryRendersCleanly) {
 // between): E = sum 1000 cos(gamma) cos(theta) / d^2 = sum 1000 h^2 / d^4, as CIE 171:2006
 // case 5.2 derives for one of them.
 TEST(BundledScenes, OfficeDirectIlluminanceIsTheInverseSquareSum) {
-    Scene s = build_scene(parse_pbrt_file(std::string(STERADIAN_SOURCE_DIR) + "/scenes/office.pbrt"),
-                          {});
-    MeasureOptions o;
-    o.rel_error = 1e-2;
-    o.threads = 2;
-    MeasureResult r = measure(s, o);
+    MeasureResult r = measure_scene(
+        build_scene(parse_pbrt_file(std::string(STERADIAN_SOURCE_DIR) + "/scenes/office.pbrt"), {}),
+        1e-2);
     const MeterReading* direct = nullptr;
     for (const MeterReading& m : r.readings)
         if (m.meter.name == "desk-direct") direct = &m;

@@ -9,6 +9,7 @@
 #include "steradian/integrators/measure.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
+#include "support/render_util.h"
 
 namespace sr::test {
 namespace {
@@ -16,13 +17,7 @@ namespace {
 constexpr double kZ = 4;
 constexpr double kPiD = 3.14159265358979323846;
 
-MeasureResult measure_text(const std::string& text) {
-    Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
-    MeasureOptions o;
-    o.rel_error = 2e-3;
-    o.threads = 2;
-    return measure(s, o);
-}
+MeasureResult measure_text(const std::string& text) { return measure_string(text, 2e-3); }
 
 std::string well(const std::string& extra) {
     return R"(

@@ -16,6 +16,7 @@
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 #include "support/render_util.h"
+#include "support/view_factors.h"
 
 namespace sr::test {
 namespace {
@@ -50,11 +51,7 @@ std::string write_map(const std::string& name, int w, int h, F f) {
 double luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
 
 MeasureResult measure_text(const std::string& text, double rel_error) {
-    Scene s = build_scene(parse_pbrt_string(text, "<test>", temp_dir()), {});
-    MeasureOptions o;
-    o.rel_error = rel_error;
-    o.threads = 2;
-    return measure(s, o);
+    return measure_string(text, rel_error, temp_dir());
 }
 
 /// A deterministic, strongly non-uniform map: a dim noisy sky, a bright sun of a few texels.
@@ -224,15 +221,6 @@ Meter "illuminance" "point3 p" [ 0 0 0 ] "normal n" [ 0 0 -1 ]
     const double bias = 16 * kPi / (double(w) * w);
     EXPECT_NEAR(up, kPi, kZ * se + kUplift * kPi + bias) << "se " << se;
     EXPECT_NEAR(m.readings[1].values[0], 0, kZ * m.readings[1].stderrs[0] + bias);
-}
-
-/// The configuration factor from a small upward-facing patch to a parallel rectangle a x b
-/// at height h with a corner straight above the patch (Howell's catalogue, B-2):
-/// F = [X / sqrt(1 + X^2) atan(Y / sqrt(1 + X^2)) + Y / sqrt(1 + Y^2) atan(X / sqrt(1 + Y^2))]
-/// / (2 pi), X = a / h, Y = b / h.
-double corner_factor(double a, double b, double h) {
-    const double X = a / h, Y = b / h, sx = std::sqrt(1 + X * X), sy = std::sqrt(1 + Y * Y);
-    return (X / sx * std::atan(Y / sx) + Y / sy * std::atan(X / sy)) / (2 * kPi);
 }
 
 TEST(EnvironmentLight, PortalWindowGivesTheApertureIlluminance) {

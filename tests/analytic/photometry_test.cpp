@@ -13,6 +13,7 @@
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 #include "steradian/spectrum/spectrum.h"
+#include "support/render_util.h"
 
 namespace sr::test {
 namespace {
@@ -20,20 +21,7 @@ namespace {
 const std::string kCie = std::string(STERADIAN_SOURCE_DIR) + "/tests/data/cie171/";
 
 MeasureResult measure_file(const std::string& path, double rel_error, int threads = 2) {
-    Scene s = build_scene(parse_pbrt_file(path), {});
-    MeasureOptions o;
-    o.rel_error = rel_error;
-    o.threads = threads;
-    return measure(s, o);
-}
-
-MeasureResult measure_text(const std::string& text, double rel_error, const std::string& dir = ".",
-                           int threads = 2) {
-    Scene s = build_scene(parse_pbrt_string(text, "<test>", dir), {});
-    MeasureOptions o;
-    o.rel_error = rel_error;
-    o.threads = threads;
-    return measure(s, o);
+    return measure_scene(build_scene(parse_pbrt_file(path), {}), rel_error, threads);
 }
 
 /// The criterion for direct cases: within 0.1 % of the published value; and, as a
@@ -153,10 +141,10 @@ TEST(Goniometric, OrientationFollowsTheCtm) {
                "\"normal n\" [ 0 0 1 ]\n";
     };
     const double k = std::cos(kPi / 4) / 8;
-    MeasureResult r = measure_text(scene(""), 1e-4, t.dir());
+    MeasureResult r = measure_string(scene(""), 1e-4, t.dir());
     const double plain[] = {300 * k, 200 * k, 100 * k, 200 * k};  // +x: C0, +y: C90, ...
     for (int i = 0; i < 4; ++i) EXPECT_NEAR(r.readings[0].values[i], plain[i], 1e-3 * plain[i]) << i;
-    r = measure_text(scene("Rotate 90 0 0 1"), 1e-4, t.dir());
+    r = measure_string(scene("Rotate 90 0 0 1"), 1e-4, t.dir());
     const double rotated[] = {200 * k, 300 * k, 200 * k, 100 * k};  // C0 now along +y
     for (int i = 0; i < 4; ++i)
         EXPECT_NEAR(r.readings[0].values[i], rotated[i], 1e-3 * rotated[i]) << i;
@@ -175,7 +163,7 @@ TEST(Goniometric, CandelaMultiplierScaleAndPower) {
                         "AttributeBegin\n Translate 0 0 2\n LightSource \"goniometric\" "
                         "\"string filename\" \"b.ies\" " + params + "\nAttributeEnd\n"
                         "Meter \"illuminance\" \"point3 p\" [ 2 0 0 ] \"normal n\" [ 0 0 1 ]\n";
-        return measure_text(s, 1e-4, t.dir()).readings[0].values[0];
+        return measure_string(s, 1e-4, t.dir()).readings[0].values[0];
     };
     EXPECT_NEAR(reading(""), 600 * k, 1e-3 * 600 * k);
     EXPECT_NEAR(reading("\"float scale\" 0.5"), 300 * k, 1e-3 * 300 * k);
@@ -194,7 +182,7 @@ TEST(Goniometric, TiltFactorAtTheMountingAngle) {
                         "AttributeBegin\n Translate 0 0 2\n LightSource \"goniometric\" "
                         "\"string filename\" \"tilt.ies\" " + params + "\nAttributeEnd\n"
                         "Meter \"illuminance\" \"point3 p\" [ 0 0 0 ] \"normal n\" [ 0 0 1 ]\n";
-        return measure_text(s, 1e-4, t.dir()).readings[0].values[0];
+        return measure_string(s, 1e-4, t.dir()).readings[0].values[0];
     };
     EXPECT_NEAR(reading(""), 100, 0.1);
     EXPECT_NEAR(reading("\"float tiltangle\" 90"), 50, 0.05);
@@ -217,7 +205,7 @@ TEST(Goniometric, RectangularOpeningIsALambertianPanel) {
                     "Meter \"illuminance\" \"point3 p\" [ 2 0.25 0  2 0.75 0  2 1.25 0  2 1.75 0 ] "
                     "\"normal n\" [ 0 0 1 ]\n"
                     "Meter \"illuminance\" \"point3 p\" [ 2 0 2.75  2 0 0.25 ] \"normal n\" [ 0 1 0 ]\n";
-    MeasureResult r = measure_text(s, 2e-4, t.dir());
+    MeasureResult r = measure_string(s, 2e-4, t.dir());
     const double floor[] = {61.424, 79.255, 95.667, 105.778};
     for (int i = 0; i < 4; ++i) expect_direct(r.readings[0].values[i], r.readings[0].stderrs[i], floor[i]);
     expect_direct(r.readings[1].values[0], r.readings[1].stderrs[0], 32.677);
@@ -228,7 +216,7 @@ TEST(Goniometric, RectangularOpeningIsALambertianPanel) {
                     "AttributeBegin\n Translate 2 2 3\n LightSource \"goniometric\" "
                     "\"string filename\" \"panel.ies\" \"string emission\" \"point\"\nAttributeEnd\n"
                     "Meter \"illuminance\" \"point3 p\" [ 2 2 0 ] \"normal n\" [ 0 0 1 ]\n";
-    EXPECT_NEAR(measure_text(p, 1e-4, t.dir()).readings[0].values[0], 1000.0 / 9, 1e-3 * 1000 / 9);
+    EXPECT_NEAR(measure_string(p, 1e-4, t.dir()).readings[0].values[0], 1000.0 / 9, 1e-3 * 1000 / 9);
 }
 
 // A spherical opening of an isotropic distribution is a uniform sphere of radiance
@@ -242,7 +230,7 @@ TEST(Goniometric, SphericalOpeningActsAsItsCentre) {
     std::string s = std::string(kHeader) +
                     "LightSource \"goniometric\" \"string filename\" \"globe.ies\"\n"
                     "Meter \"illuminance\" \"point3 p\" [ 0 0 -1  2 0 0 ] \"normal n\" [ 0 0 1  -1 0 0 ]\n";
-    MeasureResult r = measure_text(s, 2e-4, t.dir());
+    MeasureResult r = measure_string(s, 2e-4, t.dir());
     EXPECT_NEAR(r.readings[0].values[0], 500.0, 4 * r.readings[0].stderrs[0] + 1e-9);
     EXPECT_NEAR(r.readings[0].values[1], 500.0 / 4, 4 * r.readings[0].stderrs[1] + 1e-9);
     EXPECT_NEAR(r.readings[0].values[0], 500.0, 1e-3 * 500);
@@ -262,7 +250,7 @@ TEST(Goniometric, EulumdatFileIsScaledByLampFlux) {
     std::string s = std::string(kHeader) +
                     "AttributeBegin\n Translate 0 0 2\n LightSource \"goniometric\" \"string filename\" \"iso.ldt\"\nAttributeEnd\n"
                     "Meter \"illuminance\" \"point3 p\" [ 0 0 0  0 0 4 ] \"normal n\" [ 0 0 1  0 0 -1 ]\n";
-    MeasureResult r = measure_text(s, 1e-4, t.dir());
+    MeasureResult r = measure_string(s, 1e-4, t.dir());
     EXPECT_NEAR(r.readings[0].values[0], 50.0, 0.05);
     EXPECT_NEAR(r.readings[0].values[1], 50.0, 0.05);
 }
@@ -285,7 +273,7 @@ TEST(Goniometric, PbrtImageDistribution) {
         std::string s = std::string(kHeader) +
                         "LightSource \"goniometric\" \"string filename\" \"gonio.exr\" " + params + "\n"
                         "Meter \"illuminance\" \"point3 p\" [ 0 0 2  0 0 -2 ] \"normal n\" [ 0 0 -1  0 0 1 ]\n";
-        return measure_text(s, 1e-4, t.dir()).readings[0].values;
+        return measure_string(s, 1e-4, t.dir()).readings[0].values;
     };
     std::vector<double> v = readings("");
     EXPECT_NEAR(v[0], 2.0 / 4, 1e-3 * 2 / 4);
@@ -298,7 +286,7 @@ TEST(Goniometric, PbrtImageDistribution) {
     rect.data.resize(size_t(8) * 16 * 3);
     write_image(t.dir() + "/rect.exr", rect);
     try {
-        measure_text(std::string(kHeader) + "LightSource \"goniometric\" \"string filename\" \"rect.exr\"\n", 1e-2, t.dir());
+        measure_string(std::string(kHeader) + "LightSource \"goniometric\" \"string filename\" \"rect.exr\"\n", 1e-2, t.dir());
         ADD_FAILURE() << "a non-square image was accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("square"), std::string::npos);
@@ -311,7 +299,7 @@ TEST(Goniometric, Errors) {
     t.write("a.ies", asymmetric_ies(-1, 1));
     auto err = [&](const std::string& l) {
         try {
-            measure_text(std::string(kHeader) + l + "\n", 1e-2, t.dir());
+            measure_string(std::string(kHeader) + l + "\n", 1e-2, t.dir());
         } catch (const Error& e) {
             return std::string(e.what());
         }
@@ -341,7 +329,7 @@ TEST(Meters, IrradianceOfAFlatSpectrum) {
                     "LightSource \"point\" \"spectrum I\" [ 300 1 900 1 ] \"float scale\" 100\n"
                     "Meter \"irradiance\" \"point3 p\" [ 0 0 -2 ] \"normal n\" [ 0 0 1 ]\n"
                     "Meter \"illuminance\" \"point3 p\" [ 0 0 -2 ] \"normal n\" [ 0 0 1 ]\n";
-    MeasureResult r = measure_text(s, 1e-4);
+    MeasureResult r = measure_string(s, 1e-4);
     EXPECT_EQ(r.readings[0].meter.unit(), "W/m2");
     const double ev = 100.0 / 4;
     EXPECT_NEAR(r.readings[1].values[0], ev, 1e-3 * ev);
@@ -355,7 +343,7 @@ TEST(Meters, ScotopicIlluminanceIsPhotopicTimesSpRatio) {
     std::string s = std::string(kHeader) +
                     "LightSource \"point\" \"spectrum I\" \"stdillum-A\" \"float scale\" 100\n"
                     "Meter \"illuminance\" \"point3 p\" [ 0 0 -1 ] \"normal n\" [ 0 0 1 ] \"string vision\" \"scotopic\"\n";
-    MeasureResult r = measure_text(s, 1e-4);
+    MeasureResult r = measure_string(s, 1e-4);
     Spectrum a = *named_spectrum("stdillum-A");
     double sp = kKmScotopic / kKmPhotopic * inner_product(a, cie_scotopic_v()) / inner_product(a, cie_y());
     EXPECT_NEAR(sp, 1.41, 0.01);  // incandescent (2856 K) S/P ratio, e.g. IES TM-24
@@ -370,7 +358,7 @@ TEST(Meters, LuminanceOfAnEmitterAndOfALambertianSurface) {
                     " Shape \"trianglemesh\" \"point3 P\" [ -1 -1 5  1 -1 5  1 1 5  -1 1 5 ] "
                     "\"integer indices\" [ 0 2 1  0 3 2 ]\nAttributeEnd\n"
                     "Meter \"luminance\" \"point3 p\" [ 0 0 0 ] \"vector3 direction\" [ 0 0 1 ] \"float coneangle\" 2\n";
-    MeasureResult r = measure_text(s, 1e-4);
+    MeasureResult r = measure_string(s, 1e-4);
     EXPECT_EQ(r.readings[0].meter.unit(), "cd/m2");
     EXPECT_NEAR(r.readings[0].values[0], 1000, 1.0);
 
@@ -381,7 +369,7 @@ TEST(Meters, LuminanceOfAnEmitterAndOfALambertianSurface) {
                     "\"integer indices\" [ 0 1 2  0 2 3 ]\n"
                     "Meter \"luminance\" \"point3 p\" [ 0 0 1 ] \"vector3 direction\" [ 0.3 0 -1 ]\n"
                     "Meter \"illuminance\" \"point3 p\" [ 0 0 0 ] \"normal n\" [ 0 0 1 ]\n";
-    r = measure_text(t, 1e-4);
+    r = measure_string(t, 1e-4);
     EXPECT_NEAR(r.readings[0].values[0], 500 / kPi, 1e-3 * 500 / kPi);
     EXPECT_NEAR(r.readings[1].values[0], 1000, 1.0);
 }
@@ -393,7 +381,7 @@ TEST(Meters, GridOrderStatisticsAndThreadIndependence) {
                     "AttributeBegin\n Translate 0 0 2\n LightSource \"point\" \"float scale\" 100\nAttributeEnd\n"
                     "Meter \"illuminancegrid\" \"string name\" \"wp\" \"point3 corner\" [ 0 0 0 ] "
                     "\"vector3 u\" [ 3 0 0 ] \"vector3 v\" [ 0 2 0 ] \"integer resolution\" [ 3 2 ]\n";
-    MeasureResult r1 = measure_text(s, 1e-3, ".", 1), r2 = measure_text(s, 1e-3, ".", 2);
+    MeasureResult r1 = measure_string(s, 1e-3, ".", 1), r2 = measure_string(s, 1e-3, ".", 2);
     const MeterReading& g = r2.readings[0];
     ASSERT_EQ(g.values.size(), 6u);
     double sum = 0, mn = 1e30, mx = 0;
@@ -420,7 +408,7 @@ TEST(Meters, GridOrderStatisticsAndThreadIndependence) {
 TEST(Meters, ErrorsNameTheDirective) {
     auto err = [](const std::string& m) {
         try {
-            measure_text(std::string(kHeader) + "LightSource \"point\"\n" + m, 1e-2);
+            measure_string(std::string(kHeader) + "LightSource \"point\"\n" + m, 1e-2);
         } catch (const Error& e) {
             return std::string(e.what());
         }

@@ -7,6 +7,7 @@
 
 #include "steradian/film/film.h"
 #include "steradian/integrators/integrator.h"
+#include "steradian/integrators/measure.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 
@@ -18,6 +19,22 @@ struct Rendered {
     RenderStats stats;
     int width = 0, height = 0;
 };
+
+/// Measures the meters of a built scene to the relative error `rel_error`.
+inline MeasureResult measure_scene(const Scene& s, double rel_error, int threads = 2) {
+    MeasureOptions o;
+    o.rel_error = rel_error;
+    o.threads = threads;
+    return measure(s, o);
+}
+
+/// Measures the meters of a pbrt-v4 scene given as text (files named in it resolve against
+/// base_dir).
+inline MeasureResult measure_string(const std::string& pbrt, double rel_error,
+                                    const std::string& base_dir = ".", int threads = 2) {
+    return measure_scene(build_scene(parse_pbrt_string(pbrt, "<test>", base_dir), {}), rel_error,
+                         threads);
+}
 
 inline Rendered render_string(const std::string& pbrt, int threads = 2, int spp = 0,
                               const std::string& base_dir = ".") {

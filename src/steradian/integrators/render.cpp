@@ -70,27 +70,12 @@ struct ThreadState {
     /// Scale of the camera's ray differentials for texture footprints (0: none; pbrt-v4's
     /// max(1/8, 1/sqrt(spp))).
     Float footprint_scale = 0;
+    /// Scale of the first hits' footprints when only the film needs them (gbuffer's
+    /// dpdx, dpdy; the same scale).
+    Float visible_footprint_scale = 0;
     /// Scratch space of render_packet (kept per thread: its hit records are large).
     std::unique_ptr<SamplePacket> packet = std::make_unique<SamplePacket>();
-    /// pbrt-v4 scales camera ray differentials by max(1/8, 1/sqrt(samples per pixel)).
-    Float differential_scale = 1;
 };
-
-/// A visible surface's change of position over one pixel in x and y (pbrt-v4's ray
-/// differentials, scaled): where the camera rays through the neighbouring raster positions
-/// meet the surface's tangent plane.
-void visible_differentials(const Camera& camera, Point2 p_film, Point2 u_lens, Float scale,
-                           VisibleSurface& v) {
-    auto offset = [&](Vec2 d) {
-        const Ray r = camera.generate_ray(Point2(p_film.x + d.x, p_film.y + d.y), u_lens);
-        const Float den = dot(v.n, r.d);
-        if (den == 0) return Vec3(0, 0, 0);
-        const Float t = dot(v.n, v.p - r.o) / den;
-        return std::isfinite(t) ? (r.o + r.d * t - v.p) * scale : Vec3(0, 0, 0);
-    };
-    v.dpdx = offset(Vec2(1, 0));
-    v.dpdy = offset(Vec2(0, 1));
-}
 
 /// Samples [first, first + n) of `pixel` (n <= SamplePacket::kSize), added to `pass`.
 void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel, int first,
@@ -109,13 +94,18 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
     }
     const bool visible = film.uses_visible_surface();
     const unsigned found = scene.intersect_packet(p.rays, (1u << n) - 1, p.hits);
-    if (ts.footprint_scale > 0) {
+    // The first hits' footprints: for textures, and for the film's visible surfaces
+    // (gbuffer's dpdx, dpdy, copied from the hit the path first scatters at).
+    const Float first_scale = ts.footprint_scale > 0 ? ts.footprint_scale
+                              : visible              ? ts.visible_footprint_scale
+                                                     : 0;
+    if (first_scale > 0) {
         for (int k = 0; k < n; ++k) {
             if (!((found >> k) & 1)) continue;
             const Point2 pf = p.p_film[k];
             const Ray rx = scene.camera->generate_ray(Point2(pf.x + 1, pf.y), p.u_lens[k]);
             const Ray ry = scene.camera->generate_ray(Point2(pf.x, pf.y + 1), p.u_lens[k]);
-            set_footprint_from_rays(p.hits[k], p.rays[k], rx, ry, ts.footprint_scale);
+            set_footprint_from_rays(p.hits[k], p.rays[k], rx, ry, first_scale);
         }
     }
     unsigned pending = 0;
@@ -124,9 +114,6 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
         p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k], sampler,
                               ts.counters, &p.shadow[k], visible ? &p.visible[k] : nullptr,
                               ts.footprint_scale);
-        if (visible && p.visible[k].set)
-            visible_differentials(*scene.camera, p.p_film[k], p.u_lens[k], ts.differential_scale,
-                                  p.visible[k]);
         p.shadow_rays[k] = p.shadow[k].ray;
         pending |= unsigned(p.shadow[k].pending) << k;
     }
@@ -237,9 +224,10 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         ThreadState s;
         s.sampler = proto->clone();
-        if (scene.texture_footprints)
-            s.footprint_scale = std::max(Float(0.125), 1 / std::sqrt(Float(total_spp)));
-        s.differential_scale = std::max(0.125f, 1 / std::sqrt(Float(total_spp)));
+        // pbrt-v4 scales camera ray differentials by max(1/8, 1/sqrt(samples per pixel)).
+        const Float scale = std::max(Float(0.125), 1 / std::sqrt(Float(total_spp)));
+        if (scene.texture_footprints) s.footprint_scale = scale;
+        s.visible_footprint_scale = scale;
         return s;
     });
 

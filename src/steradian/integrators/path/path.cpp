@@ -154,6 +154,10 @@ private:
         v.n = face_forward(hit.ng, hit.wo);
         v.ns = face_forward(bsdf.frame().n, hit.wo);
         v.uv = hit.uv;
+        // The footprint the renderer gave the camera ray's hit (zero behind an interface
+        // unless textures use footprints).
+        v.dpdx = hit.dpdx;
+        v.dpdy = hit.dpdy;
         v.albedo = SampledSpectrum(0);
         constexpr int kRho = 16;
         for (int i = 0; i < kRho; ++i) {
