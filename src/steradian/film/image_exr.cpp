@@ -81,6 +81,36 @@ private:
     std::string m_error;
 };
 
+/// Reads the channels `names` of an open file's data window as floats, interleaved in that
+/// order (half channels are converted by the library), after checking the size against the
+/// limit on image values.
+Image read_exr_pixels(Imf::InputFile& in, std::vector<std::string> names, const std::string& path) {
+    const Imath::Box2i dw = in.header().dataWindow();
+    const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, ht = int64_t(dw.max.y) - dw.min.y + 1;
+    const int count = int(names.size());
+    if (w <= 0 || ht <= 0 || double(w) * double(ht) * count > double(kMaxImageValues))
+        throw Error(fmt::format("{}: the image declares {} x {} pixels of {} channels, more "
+                                "than the limit of {} values ({} GiB as floats)",
+                                path, w, ht, count, kMaxImageValues,
+                                kMaxImageValues * 4 / (1 << 30)));
+    Image img;
+    img.width = int(w);
+    img.height = int(ht);
+    img.channels = count;
+    img.data.resize(size_t(w) * size_t(ht) * size_t(count));
+    const size_t xs = sizeof(float) * size_t(count), ys = xs * size_t(w);
+    // Slice::Make places the data window's first pixel at the start of our buffer.
+    char* base = reinterpret_cast<char*>(img.data.data());
+    Imf::FrameBuffer fb;
+    for (int c = 0; c < count; ++c)
+        fb.insert(names[size_t(c)],
+                  Imf::Slice::Make(Imf::FLOAT, base + sizeof(float) * size_t(c), dw, xs, ys));
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+    img.channel_names = std::move(names);
+    return img;
+}
+
 }  // namespace
 
 void write_exr(const std::string& file, const std::string& path, const Image& img,
@@ -161,35 +191,14 @@ std::optional<Image> read_exr(const std::string& path) {
         const bool rgb = has[0] && has[1] && has[2];
         if (!(rgb && !y) && !(y && count == 1)) return std::nullopt;
 
-        const Imath::Box2i dw = h.dataWindow();
-        const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, ht = int64_t(dw.max.y) - dw.min.y + 1;
-        const double values = double(w) * double(ht) * count;
-        if (w <= 0 || ht <= 0 || values > double(kMaxImageValues))
-            throw Error(fmt::format("{}: the image declares {} x {} pixels of {} channels, more "
-                                    "than the limit of {} values ({} GiB as floats)",
-                                    path, w, ht, count, kMaxImageValues,
-                                    kMaxImageValues * 4 / (1 << 30)));
-        Image img;
-        img.width = int(w);
-        img.height = int(ht);
-        img.channels = count;
-        img.data.resize(size_t(w) * size_t(ht) * size_t(count));
-        const size_t xs = sizeof(float) * size_t(count);
-        const size_t ys = xs * size_t(w);
-        // Slice::Make places the data window's first pixel at the start of our buffer.
-        char* base = reinterpret_cast<char*>(img.data.data());
-        Imf::FrameBuffer fb;
-        int c = 0;
-        if (y) {
-            fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, base, dw, xs, ys));
-        } else {
+        std::vector<std::string> names;
+        if (y)
+            names.emplace_back("Y");
+        else
             for (int k = 0; k < 4; ++k)
-                if (has[size_t(k)])
-                    fb.insert(order[k], Imf::Slice::Make(Imf::FLOAT, base + sizeof(float) * size_t(c++),
-                                                         dw, xs, ys));
-        }
-        in.setFrameBuffer(fb);
-        in.readPixels(dw.min.y, dw.max.y);
+                if (has[size_t(k)]) names.emplace_back(order[k]);
+        Image img = read_exr_pixels(in, std::move(names), path);
+        img.channel_names.clear();  // the usual layouts go unnamed
         return img;
     } catch (const Error&) {
         throw;
@@ -206,35 +215,19 @@ Image read_exr_channels(const std::string& path) {
     try {
         Imf::InputFile in(path.c_str(), 1);
         const Imf::Header& h = in.header();
-        const Imath::Box2i dw = h.dataWindow();
-        const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, ht = int64_t(dw.max.y) - dw.min.y + 1;
-        Image img;
+        std::vector<std::string> names;
         for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
             const Imf::Channel& ch = it.channel();
             if ((ch.type != Imf::HALF && ch.type != Imf::FLOAT) || ch.xSampling != 1 ||
                 ch.ySampling != 1)
                 throw Error(
                     fmt::format("{}: channel {} is not of half or float pixels", path, it.name()));
-            img.channel_names.emplace_back(it.name());
+            names.emplace_back(it.name());
         }
+        Image img = image_formats::read_exr_pixels(in, std::move(names), path);
         for (auto it = h.begin(); it != h.end(); ++it)
             if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
                 img.attributes.emplace_back(it.name(), a->value());
-        img.channels = int(img.channel_names.size());
-        if (w <= 0 || ht <= 0 || double(w) * double(ht) * img.channels > double(kMaxImageValues))
-            throw Error(fmt::format("{}: {} x {} pixels of {} channels: more than {} values", path,
-                                    w, ht, img.channels, kMaxImageValues));
-        img.width = int(w);
-        img.height = int(ht);
-        img.data.resize(size_t(w) * size_t(ht) * size_t(img.channels));
-        const size_t xs = sizeof(float) * size_t(img.channels), ys = xs * size_t(w);
-        char* base = reinterpret_cast<char*>(img.data.data());
-        Imf::FrameBuffer fb;
-        for (int c = 0; c < img.channels; ++c)
-            fb.insert(img.channel_names[size_t(c)],
-                      Imf::Slice::Make(Imf::FLOAT, base + sizeof(float) * size_t(c), dw, xs, ys));
-        in.setFrameBuffer(fb);
-        in.readPixels(dw.min.y, dw.max.y);
         return img;
     } catch (const Error&) {
         throw;
