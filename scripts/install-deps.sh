@@ -19,6 +19,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizers (preset fuzz)
   llvm-14                      # llvm-symbolizer: source lines in the fuzzers' stack traces
+  pybind11-dev python3-dev     # the Python module (src/python/, docs/python.md)
+  python3-numpy python3-pytest # its arrays, and its tests (tests/python/, ctest python)
 )
 
 SUDO=""
