@@ -168,15 +168,20 @@ Float cloud_density(const CloudMedium& m, Point3 p) {
 }
 
 void build_majorants(CloudMedium& m) {
-    // cloud_density() is at most min(1, A + 2 max(0, 0.5 - y)), with A (the clamped noise
-    // term) 0 where y >= 1 or density = 0 and at most 1 elsewhere: per cell, evaluated at the
-    // cell's lowest y, a true bound (pbrt-v4 bounds the density by 1 everywhere).
+    // cloud_density() = clamp(clamp((1 - y) 4.5 density N, 0, 1) + 2 max(0, 0.5 - y), 0, 1)
+    // with N the sum of five octaves of noise, weights 1/2 ... 1/32. Each noise value is a
+    // convex combination of gradient terms +-a +-b with |a|, |b| <= 1 (offsets from the cell's
+    // corners), so |noise| <= 2 and |N| <= 2 x 31/32: per cell, a true bound from its y range
+    // (y may exceed 1: there the first term is positive where N < 0). pbrt-v4 bounds the
+    // density by 1 everywhere; this is at most that.
     m.majorant.res = MajorantGrid::kDefaultRes;
-    fill_majorants(m.majorant, [&](Point3 lo, Point3) {
-        // (Less a little: the DDA's float arithmetic may place a point a hair below lo.)
-        Float y = m.p0.y + (lo.y - Float(1e-4)) * (m.p1.y - m.p0.y);
-        Float a = y < 1 && m.density != 0 ? 1 : 0;
-        return std::min(Float(1), a + 2 * std::max(Float(0), Float(0.5) - y));
+    fill_majorants(m.majorant, [&](Point3 lo, Point3 hi) {
+        // (A little wider: the DDA's float arithmetic may place a point a hair outside.)
+        Float y0 = m.p0.y + (lo.y - Float(1e-4)) * (m.p1.y - m.p0.y);
+        Float y1 = m.p0.y + (hi.y + Float(1e-4)) * (m.p1.y - m.p0.y);
+        Float dy = std::max(std::abs(1 - y0), std::abs(1 - y1));
+        Float a = std::min(Float(1), dy * Float(4.5) * std::abs(m.density) * 2 * Float(31.0 / 32));
+        return std::min(Float(1), a + 2 * std::max(Float(0), Float(0.5) - y0));
     });
 }
 
