@@ -140,33 +140,43 @@ Material "interface"
 // A "uniformgrid" of constant density c over a box much larger than the view equals the
 // homogeneous medium with sigma scaled by c, away from the grid's boundary (where pbrt-v4's
 // interpolation falls to zero over half a cell): the same slab scene both ways.
-TEST(Media, ConstantDensityGridEqualsTheHomogeneousMedium) {
-    const double d = 0.5, c = 2.0;
-    auto scene = [&](const std::string& medium) {
-        return ortho_header(128, 20) + fmt::format(R"(
+/// The slab [-5, 5]^2 x [-d, 0] of `medium` (its MakeNamedMedium parameters) inside an
+/// interface box, lit by a distant light, seen from above at 128 spp.
+std::string slab_scene(double d, const std::string& medium) {
+    return ortho_header(128, 20) + fmt::format(R"(
 LightSource "distant" "point3 from" [ 0.3 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
 MakeNamedMedium "slab" {}
 MediumInterface "slab" ""
 Material "interface"
 {}
 )",
-                                                   medium, box(-5, -5, -d, 5, 5, 0));
-    };
+                                               medium, box(-5, -5, -d, 5, 5, 0));
+}
+
+/// `r` (a render of slab_scene(d, ...)) equals, within the estimates' standard errors, the
+/// slab of the homogeneous medium sigma_a = 0.2 c, sigma_s = 0.6 c, g = 0.5.
+void expect_homogeneous_slab(const Rendered& r, double d, double c) {
+    Rendered homo = render_string(slab_scene(d, fmt::format(
+        R"("string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
+        flat(0.2 * c), flat(0.6 * c))));
+    MeanSe a = mean_se(r.y), b = mean_se(homo.y);
+    EXPECT_GT(b.mean, 0.01);
+    EXPECT_NEAR(a.mean, b.mean, kZ * std::hypot(a.se, b.se)) << a.se << " " << b.se;
+    EXPECT_EQ(r.stats.nonfinite, 0u);
+}
+
+TEST(Media, ConstantDensityGridEqualsTheHomogeneousMedium) {
+    const double d = 0.5, c = 2.0;
     // The grid: 4 x 4 x 4 nodes over [-20, 20]^2 x [-2, 2]: its interior holds the slab.
     std::string density = "[";
     for (int i = 0; i < 64; ++i) density += fmt::format(" {}", c);
     density += " ]";
-    Rendered grid = render_string(scene(fmt::format(
+    Rendered grid = render_string(slab_scene(d, fmt::format(
         R"("string type" "uniformgrid" "integer nx" [ 4 ] "integer ny" [ 4 ] "integer nz" [ 4 ]
   "float density" {} "point3 p0" [ -20 -20 -2 ] "point3 p1" [ 20 20 2 ]
   "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
         density, flat(0.2), flat(0.6))));
-    Rendered homo = render_string(scene(fmt::format(
-        R"("string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
-        flat(0.2 * c), flat(0.6 * c))));
-    MeanSe a = mean_se(grid.y), b = mean_se(homo.y);
-    EXPECT_GT(b.mean, 0.01);
-    EXPECT_NEAR(a.mean, b.mean, kZ * std::hypot(a.se, b.se)) << a.se << " " << b.se;
+    expect_homogeneous_slab(grid, d, c);
 }
 
 // A "nanovdb" grid of constant density c covering a slab, the slab an interface box naming
@@ -185,29 +195,13 @@ TEST(Media, ConstantNanoVdbGridEqualsTheHomogeneousMedium) {
     g.lo = nanovdb::Coord(-7, -7, -3);
     g.hi = nanovdb::Coord(7, 7, 3);
     write_nvdb((dir / "slab.nvdb").string(), {g});
-    auto scene = [&](const std::string& medium) {
-        return ortho_header(128, 20) + fmt::format(R"(
-LightSource "distant" "point3 from" [ 0.3 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
-MakeNamedMedium "slab" {}
-MediumInterface "slab" ""
-Material "interface"
-{}
-)",
-                                                   medium, box(-5, -5, -d, 5, 5, 0));
-    };
     Rendered vdb = render_string(
-        scene(fmt::format(R"("string type" "nanovdb" "string filename" "slab.nvdb"
+        slab_scene(d, fmt::format(R"("string type" "nanovdb" "string filename" "slab.nvdb"
   "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ] "float scale" [ 0.5 ])",
                           flat(0.4), flat(1.2))),
         2, 0, dir.string());
     std::filesystem::remove_all(dir);
-    Rendered homo = render_string(scene(fmt::format(
-        R"("string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
-        flat(0.2 * c), flat(0.6 * c))));
-    MeanSe a = mean_se(vdb.y), b = mean_se(homo.y);
-    EXPECT_GT(b.mean, 0.01);
-    EXPECT_NEAR(a.mean, b.mean, kZ * std::hypot(a.se, b.se)) << a.se << " " << b.se;
-    EXPECT_EQ(vdb.stats.nonfinite, 0u);
+    expect_homogeneous_slab(vdb, d, c);
 }
 
 // A "cloud" of density parameter 0 has density min(1, 2 max(0, 0.5 - y)): 1 wherever y <= 0.

@@ -11,6 +11,7 @@
 #include "steradian/core/noise.h"
 #include "steradian/sampling/rng.h"
 #include "steradian/sampling/stats.h"
+#include "support/majorant_check.h"
 
 namespace sr {
 namespace {
@@ -285,21 +286,10 @@ TEST(CloudMedium, MajorantBoundsTheDensityEverywhere) {
                           Case{-4, 3, 8, Point3(0, 0.9f, 0), Point3(1, 3, 1)},
                           Case{0.3f, 1, 5, Point3(0, 0.6f, 0), Point3(1, 1.2f, 1)}}) {
         CloudMedium m = cloud(c.density, c.wispiness, c.frequency, c.p0, c.p1);
-        Pcg32 rng(5, 6);
-        int violations = 0;
-        double largest = 0;
-        for (int i = 0; i < 100000; ++i) {
-            Point3 u(rng.next_float(), rng.next_float(), rng.next_float());
-            Point3 p = m.p0 + (m.p1 - m.p0) * u;
-            Float d = cloud_density(m, p);
-            largest = std::max(largest, double(d));
-            int n = m.majorant.res;
-            int x = std::min(int(u.x * n), n - 1), y = std::min(int(u.y * n), n - 1),
-                z = std::min(int(u.z * n), n - 1);
-            if (d > m.majorant.at(x, y, z)) ++violations;
-        }
-        EXPECT_EQ(violations, 0) << "density " << c.density;
-        EXPECT_GT(largest, 0.05);  // the test looks where the cloud is
+        test::MajorantCheck r = test::check_majorant(
+            m.majorant, m.p0, m.p1, [&](Point3 p) { return cloud_density(m, p); }, 100000, 5);
+        EXPECT_EQ(r.violations, 0) << "density " << c.density;
+        EXPECT_GT(r.largest, 0.05);  // the test looks where the cloud is
     }
 }
 

@@ -17,6 +17,7 @@
 #include "steradian/sampling/rng.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
+#include "support/majorant_check.h"
 #include "support/nvdb_writer.h"
 
 namespace sr {
@@ -191,20 +192,11 @@ TEST_F(NanoVdb, MajorantsBoundTheDensityEverywhere) {
 )");
     const auto& m = std::get<NanoVdbMedium>(ms[0]);
     ASSERT_EQ(m.majorant.res, 64);
-    Pcg32 rng(3, 9);
-    int violations = 0;
-    double largest = 0;
-    for (int i = 0; i < 200000; ++i) {
-        Point3 u(rng.next_float(), rng.next_float(), rng.next_float());
-        Point3 p = m.p0 + (m.p1 - m.p0) * u;
-        double d = std::max(0.0f, m.density->sample(p)) * m.scale;
-        largest = std::max(largest, d);
-        int c[3];
-        for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(u[a] * 64), 0, 63);
-        if (d > m.majorant.at(c[0], c[1], c[2]) * (1 + 1e-6)) ++violations;
-    }
-    EXPECT_EQ(violations, 0);
-    EXPECT_GT(largest, 1);  // the grid is not empty where we looked
+    test::MajorantCheck r = test::check_majorant(
+        m.majorant, m.p0, m.p1,
+        [&](Point3 p) { return std::max(0.0f, m.density->sample(p)) * m.scale; }, 200000, 3);
+    EXPECT_EQ(r.violations, 0);
+    EXPECT_GT(r.largest, 1);  // the grid is not empty where we looked
     // Bounds: the active voxels [lo, hi + 1] of index space in world space.
     EXPECT_NEAR(m.p0.x, 0.4 - 9 * 0.3, 1e-5);
     EXPECT_NEAR(m.p1.z, 1 + 6 * 0.3, 1e-5);
