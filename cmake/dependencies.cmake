@@ -19,6 +19,9 @@ target_include_directories(steradian_oiio SYSTEM INTERFACE ${OIIO_INCLUDE_DIR})
 target_link_libraries(steradian_oiio INTERFACE ${OIIO_LIBRARY} ${OIIO_UTIL_LIBRARY})
 # zlib: gzip-compressed scene files and PLY meshes (core/input_file.cpp).
 find_package(ZLIB REQUIRED)
+# NanoVDB (header-only, Debian's libnanovdb-dev): .nvdb grids of "nanovdb" media
+# (media/nanovdb.cpp; zlib for ZIP-compressed grids, BLOSC ones are refused).
+find_path(NANOVDB_INCLUDE_DIR nanovdb/NanoVDB.h REQUIRED)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)

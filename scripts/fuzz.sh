@@ -17,7 +17,7 @@ seconds=${1:-60}
 shift || true
 jobs=${JOBS:-2}
 
-all=(pbrt_tokenizer pbrt_parser scene_build ply ies eulumdat spectrum_file measured_brdf)
+all=(pbrt_tokenizer pbrt_parser scene_build ply ies eulumdat spectrum_file measured_brdf nanovdb)
 harnesses=("$@")
 [ ${#harnesses[@]} -eq 0 ] && harnesses=("${all[@]}")
 
@@ -35,6 +35,7 @@ max_len() {
     pbrt_parser | scene_build) echo 12000 ;;  # the test scenes are up to 9 kB
     ply | ies | eulumdat | measured_brdf) echo 4096 ;;
     spectrum_file) echo 1024 ;;
+    nanovdb) echo 700000 ;;  # an uncompressed grid has a 270 kB upper node
   esac
 }
 seed_files() {
@@ -46,6 +47,7 @@ seed_files() {
     eulumdat) find tests/data fuzz/seeds/eulumdat -name '*.ldt' ;;
     spectrum_file) find tests/data fuzz/seeds/spectrum_file -name '*.spd' ;;
     measured_brdf) find fuzz/seeds/measured_brdf -name '*.bsdf' ;;
+    nanovdb) ;;  # written below by steradian_nvdb_standin
   esac
 }
 
@@ -61,6 +63,13 @@ for h in "${harnesses[@]}"; do
   rm -rf "$seeds"
   mkdir -p "$seeds" "$corpus" "$regressions"
   seed_files "$h" | while read -r f; do cp "$f" "$seeds/$(echo "$f" | tr / _)"; done
+  if [ "$h" = nanovdb ]; then
+    # Stand-in grids (uncompressed, ZIP; with a temperature grid) from NanoVDB's own writer.
+    cmake --build --preset fuzz -j "$jobs" --target steradian_nvdb_standin >/dev/null
+    build/fuzz/steradian_nvdb_standin "$seeds/ball.nvdb"
+    build/fuzz/steradian_nvdb_standin "$seeds/ball_zip.nvdb" --zip
+    build/fuzz/steradian_nvdb_standin "$seeds/fire_zip.nvdb" --temperature --zip
+  fi
   if [ "$h" = scene_build ]; then
     # The harness skips scenes with a "spectrum" "imagemap" texture (fuzz/scene_build.cpp):
     # the seeds get a constant texture in its place.

@@ -15,6 +15,7 @@ packages=(
                          # module steradian_oiio.so loaded only when such a file is used
   openimageio-tools      # oiiotool, for inspecting renders
   zlib1g-dev             # zlib: gzip-compressed scene files (.pbrt.gz) and meshes (.ply.gz)
+  libnanovdb-dev         # NanoVDB headers: .nvdb grids of "nanovdb" media (media/nanovdb.cpp)
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizers (preset fuzz)

@@ -14,15 +14,18 @@ part of this repository: it is third-party content). The script
    each binary asset that is absent: a PLY mesh (plain or .ply.gz) of one quad with
    positions, normals and uv; an image texture or environment map as an 8x8 RGB image (EXR
    uncompressed float scanlines, PNG, TGA or PFM; square, so it is also a valid
-   equal-area map); a spectrum file (.spd) of two samples. A stand-in is never written over a
+   equal-area map); a spectrum file (.spd) of two samples; a NanoVDB grid file (.nvdb) of a
+   ball of density in 16^3 voxels with, when its MakeNamedMedium has "temperature..."
+   parameters, a "temperature" grid (written by steradian_nvdb_standin, built beside the
+   steradian binary, with NanoVDB's own API). A stand-in is never written over a
    file that exists, and every one is listed in CORPUS_DIR/.standins.txt. Scene text that is
-   absent (.pbrt, .pbrt.gz) and assets of other formats (.nvdb, .bsdf, .jpg, ...) are left
+   absent (.pbrt, .pbrt.gz) and assets of other formats (.bsdf, .jpg, ...) are left
    missing: the scene is then reported as blocked by that file;
 3. runs `steradian check --json` on each top-level scene (one process each);
 4. prints a table: each scene, ok or what blocks it; the count "N of M parse and build";
    and, for each blocking feature, the number of scenes it blocks.
 
-Only the Python standard library is used.
+Only the Python standard library is used (and steradian_nvdb_standin for .nvdb files).
 """
 import argparse
 import collections
@@ -67,6 +70,25 @@ def is_top_level(path):
 
 FILE_PARAM = re.compile(r'^"(string|spectrum)\s+(\w+)"$')
 
+# The .nvdb files named by a MakeNamedMedium with "temperature..." parameters (their stand-in
+# gets a "temperature" grid too); filled by referenced_files().
+NVDB_WITH_TEMPERATURE = set()
+
+
+def is_directive(t):
+    return t[0].isalpha() and t[0].isupper()
+
+
+def statement_params(toks, i):
+    """The parameter declarations ("type name") of the directive statement around token i."""
+    start = i
+    while start > 0 and not is_directive(toks[start]):
+        start -= 1
+    end = i + 1
+    while end < len(toks) and not is_directive(toks[end]):
+        end += 1
+    return [t for t in toks[start:end] if t.startswith('"') and " " in t.strip('"').strip()]
+
 
 def referenced_files(path, base_dir, seen):
     """(referenced path, kind) for every file the scene text at `path` names, following
@@ -100,6 +122,9 @@ def referenced_files(path, base_dir, seen):
         if directive == "Film":  # its filename is an output
             continue
         if ptype == "string" and pname in ("filename", "lensfile", "mapname", "bsdffile"):
+            if directive == "MakeNamedMedium" and value.lower().endswith(".nvdb") and any(
+                    "temperature" in p for p in statement_params(toks, i)):
+                NVDB_WITH_TEMPERATURE.add(os.path.join(base_dir, value))
             yield os.path.join(base_dir, value), "asset"
         elif ptype == "spectrum" and "." in value:  # a named spectrum has no extension
             yield os.path.join(base_dir, value), "asset"
@@ -198,12 +223,30 @@ def spd_standin():
     return b"# stand-in written by scripts/pbrt_corpus.py\n400 0.5\n700 0.5\n"
 
 
+# The program that writes stand-in .nvdb files (tests/tools/nvdb_standin.cpp); set by main().
+NVDB_STANDIN = None
+
+
+def nvdb_standin(path):
+    if not NVDB_STANDIN or not os.access(NVDB_STANDIN, os.X_OK):
+        return None
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "standin.nvdb")
+        args = [NVDB_STANDIN, out] + (["--temperature"] if path in NVDB_WITH_TEMPERATURE else [])
+        if subprocess.run(args).returncode != 0:
+            return None
+        with open(out, "rb") as f:
+            return f.read()
+
+
 STANDINS = {".ply": ply_standin, ".exr": exr_standin, ".png": png_standin,
             ".tga": tga_standin, ".pfm": pfm_standin, ".spd": spd_standin}
 
 
 def standin_for(path):
     """The bytes of a stand-in for the asset at `path`, or None for a format we do not make."""
+    if path.lower().endswith(".nvdb"):
+        return nvdb_standin(path)
     p = path.lower()
     gz = p.endswith(".gz")
     if gz:
@@ -277,8 +320,13 @@ def main():
     ap.add_argument("--json", help="write every scene's check results to this file")
     ap.add_argument("--no-standins", action="store_true", help="do not create stand-in assets")
     ap.add_argument("--timeout", type=float, default=900, help="seconds per scene")
+    ap.add_argument("--nvdb-standin", help="the program writing stand-in .nvdb files (default: "
+                    "steradian_nvdb_standin beside the steradian binary)")
     a = ap.parse_args()
     corpus = os.path.abspath(a.corpus)
+    global NVDB_STANDIN
+    NVDB_STANDIN = a.nvdb_standin or os.path.join(os.path.dirname(os.path.abspath(a.steradian)),
+                                                  "steradian_nvdb_standin")
 
     scenes = []
     for root, dirs, files in os.walk(corpus):

@@ -6,11 +6,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <random>
 
+#include "support/nvdb_writer.h"
 #include "support/render_util.h"
 
 namespace sr::test {
 namespace {
+
+using test::NvdbGridSpec;
+using test::write_nvdb;
 
 constexpr double kZ = 4.5;  // tolerance in standard errors
 
@@ -134,33 +140,105 @@ Material "interface"
 // A "uniformgrid" of constant density c over a box much larger than the view equals the
 // homogeneous medium with sigma scaled by c, away from the grid's boundary (where pbrt-v4's
 // interpolation falls to zero over half a cell): the same slab scene both ways.
-TEST(Media, ConstantDensityGridEqualsTheHomogeneousMedium) {
-    const double d = 0.5, c = 2.0;
-    auto scene = [&](const std::string& medium) {
-        return ortho_header(128, 20) + fmt::format(R"(
+/// The slab [-5, 5]^2 x [-d, 0] of `medium` (its MakeNamedMedium parameters) inside an
+/// interface box, lit by a distant light, seen from above at 128 spp.
+std::string slab_scene(double d, const std::string& medium) {
+    return ortho_header(128, 20) + fmt::format(R"(
 LightSource "distant" "point3 from" [ 0.3 0 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
 MakeNamedMedium "slab" {}
 MediumInterface "slab" ""
 Material "interface"
 {}
 )",
-                                                   medium, box(-5, -5, -d, 5, 5, 0));
-    };
+                                               medium, box(-5, -5, -d, 5, 5, 0));
+}
+
+/// `r` (a render of slab_scene(d, ...)) equals, within the estimates' standard errors, the
+/// slab of the homogeneous medium sigma_a = 0.2 c, sigma_s = 0.6 c, g = 0.5.
+void expect_homogeneous_slab(const Rendered& r, double d, double c) {
+    Rendered homo = render_string(slab_scene(d, fmt::format(
+        R"("string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
+        flat(0.2 * c), flat(0.6 * c))));
+    MeanSe a = mean_se(r.y), b = mean_se(homo.y);
+    EXPECT_GT(b.mean, 0.01);
+    EXPECT_NEAR(a.mean, b.mean, kZ * std::hypot(a.se, b.se)) << a.se << " " << b.se;
+    EXPECT_EQ(r.stats.nonfinite, 0u);
+}
+
+TEST(Media, ConstantDensityGridEqualsTheHomogeneousMedium) {
+    const double d = 0.5, c = 2.0;
     // The grid: 4 x 4 x 4 nodes over [-20, 20]^2 x [-2, 2]: its interior holds the slab.
     std::string density = "[";
     for (int i = 0; i < 64; ++i) density += fmt::format(" {}", c);
     density += " ]";
-    Rendered grid = render_string(scene(fmt::format(
+    Rendered grid = render_string(slab_scene(d, fmt::format(
         R"("string type" "uniformgrid" "integer nx" [ 4 ] "integer ny" [ 4 ] "integer nz" [ 4 ]
   "float density" {} "point3 p0" [ -20 -20 -2 ] "point3 p1" [ 20 20 2 ]
   "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
         density, flat(0.2), flat(0.6))));
-    Rendered homo = render_string(scene(fmt::format(
-        R"("string type" "homogeneous" "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ])",
-        flat(0.2 * c), flat(0.6 * c))));
-    MeanSe a = mean_se(grid.y), b = mean_se(homo.y);
+    expect_homogeneous_slab(grid, d, c);
+}
+
+// A "nanovdb" grid of constant density c covering a slab, the slab an interface box naming
+// it: the same image as the homogeneous medium of coefficients c sigma (inside the box the
+// grid's interpolation is exactly c; pbrt-v4 scales sigma by the density the same way).
+TEST(Media, ConstantNanoVdbGridEqualsTheHomogeneousMedium) {
+    const double d = 0.5, c = 2.0;
+    std::random_device rd;
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("sr_media_nvdb_" + std::to_string(rd()));
+    std::filesystem::create_directories(dir);
+    // Voxels [-7, 7]^2 x [-3, 3] of size 1 at the origin: c on [-7, 7]^2 x [-3, 3], which
+    // holds the slab [-5, 5]^2 x [-0.5, 0].
+    NvdbGridSpec g;
+    g.value = [c](int, int, int) { return float(c); };
+    g.lo = nanovdb::Coord(-7, -7, -3);
+    g.hi = nanovdb::Coord(7, 7, 3);
+    write_nvdb((dir / "slab.nvdb").string(), {g});
+    Rendered vdb = render_string(
+        slab_scene(d, fmt::format(R"("string type" "nanovdb" "string filename" "slab.nvdb"
+  "spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.5 ] "float scale" [ 0.5 ])",
+                          flat(0.4), flat(1.2))),
+        2, 0, dir.string());
+    std::filesystem::remove_all(dir);
+    expect_homogeneous_slab(vdb, d, c);
+}
+
+// A "cloud" of density parameter 0 has density min(1, 2 max(0, 0.5 - y)): 1 wherever y <= 0.
+// Over bounds with y <= 0, inside an interface box of the same extent, it renders as the
+// homogeneous medium of its sigma_a and sigma_s. A noisy cloud renders finite values.
+TEST(Media, CloudOfUnitDensityEqualsTheHomogeneousMedium) {
+    const std::string slab = box(-3, -3, -0.5, 3, 0, 0);
+    auto scene = [&](const std::string& medium) {
+        return ortho_header(128, 20) + fmt::format(R"(
+LightSource "distant" "point3 from" [ 0.3 -0.2 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
+MakeNamedMedium "c" {}
+MediumInterface "c" ""
+Material "interface"
+{}
+)",
+                                                   medium, slab);
+    };
+    const std::string coeffs = fmt::format(R"("spectrum sigma_a" {} "spectrum sigma_s" {} "float g" [ 0.3 ])",
+                                           flat(0.3), flat(1.5));
+    Rendered cl = render_string(scene(R"("string type" "cloud" "float density" [ 0 ]
+  "point3 p0" [ -3 -3 -0.5 ] "point3 p1" [ 3 0 0 ] )" + coeffs));
+    Rendered homo = render_string(scene(R"("string type" "homogeneous" )" + coeffs));
+    MeanSe a = mean_se(cl.y), b = mean_se(homo.y);
     EXPECT_GT(b.mean, 0.01);
     EXPECT_NEAR(a.mean, b.mean, kZ * std::hypot(a.se, b.se)) << a.se << " " << b.se;
+    // The default cloud (noise, wispiness) over [0, 1]^3, seen through its unit box.
+    Rendered noisy = render_string(ortho_header(16, 20) + fmt::format(R"(
+LightSource "distant" "point3 from" [ 0.3 -0.2 1 ] "point3 to" [ 0 0 0 ] "float illuminance" [ 5 ]
+MakeNamedMedium "c" "string type" "cloud" "float density" [ 3 ]
+MediumInterface "c" ""
+Material "interface"
+Translate -0.5 -0.5 -0.5
+{}
+)",
+                                                                      box(0, 0, 0, 1, 1, 1)));
+    EXPECT_EQ(noisy.stats.nonfinite, 0u);
+    EXPECT_GT(mean_se(noisy.y).mean, 0);
 }
 
 // Delta and ratio tracking draw their collisions from streams keyed by the sampler's values
@@ -209,6 +287,14 @@ TEST(Media, ErrorsAreLocated) {
     expect_error("MakeNamedMedium \"m\" \"string type\" \"fancy\"\n", "unknown medium type");
     expect_error("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float foo\" [ 1 ]\n",
                  "foo");
+    // pbrt-v4's CloudMedium reads no "scale" (its ReportUnused rejects one).
+    expect_error("MakeNamedMedium \"m\" \"string type\" \"cloud\" \"float scale\" [ 2 ]\n",
+                 "unused parameter \"float scale\"");
+    expect_error("MakeNamedMedium \"m\" \"string type\" \"cloud\" \"point3 p1\" [ 0 1 1 ]\n",
+                 "not a box");
+    expect_error("MakeNamedMedium \"m\" \"string type\" \"nanovdb\"\n", "\"string filename\"");
+    expect_error("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"no.nvdb\"\n",
+                 "no.nvdb");
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 #include "steradian/material/texture.h"
 
-#include "steradian/material/noise.h"
+#include "steradian/core/noise.h"
 
 namespace sr {
 

@@ -110,7 +110,7 @@ struct BilerpFloatTexture {
 };
 
 /// pbrt-v4's noise textures ("fbm", "wrinkled", "windy"), of the hit's position in the
-/// texture's space (material/noise.h), with every octave (no ray differentials).
+/// texture's space (core/noise.h), with every octave (no ray differentials).
 struct NoiseFloatTexture {
     enum class Kind { Fbm, Wrinkled, Windy };
     Kind kind = Kind::Fbm;

@@ -6,7 +6,7 @@
 #include <functional>
 #include <random>
 
-#include "steradian/material/noise.h"
+#include "steradian/core/noise.h"
 #include "steradian/material/texture.h"
 
 namespace sr {

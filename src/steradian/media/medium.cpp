@@ -2,6 +2,9 @@
 
 #include <string>
 
+#include "steradian/core/noise.h"
+#include "steradian/media/nanovdb.h"
+
 namespace sr {
 
 PhaseSample sample_hg(Vec3 wo, Float g, Point2 u) {
@@ -79,9 +82,47 @@ MediumProperties properties(const RgbGridMedium& m, Point3 p, const SampledWavel
     return mp;
 }
 
+bool inside(Point3 p, Point3 p0, Point3 p1) {
+    return p.x >= p0.x && p.y >= p0.y && p.z >= p0.z && p.x <= p1.x && p.y <= p1.y &&
+           p.z <= p1.z;
+}
+
+MediumProperties properties(const CloudMedium& m, Point3 p, const SampledWavelengths& lambda) {
+    Point3 pm = m.medium_from_world.point(p);
+    // Nothing outside the bounds (pbrt-v4 never looks there: its majorant is 0 outside).
+    Float d = inside(pm, m.p0, m.p1) ? cloud_density(m, pm) : 0;
+    MediumProperties mp;
+    mp.sigma_a = m.sigma_a.sample(lambda) * d;
+    mp.sigma_s = m.sigma_s.sample(lambda) * d;
+    mp.le = SampledSpectrum(0);
+    mp.g = m.g;
+    return mp;
+}
+
+MediumProperties properties(const NanoVdbMedium& m, Point3 p, const SampledWavelengths& lambda) {
+    Point3 pm = m.medium_from_world.point(p);
+    MediumProperties mp;
+    mp.g = m.g;
+    mp.le = SampledSpectrum(0);
+    if (!inside(pm, m.p0, m.p1)) {
+        mp.sigma_a = mp.sigma_s = SampledSpectrum(0);
+        return mp;
+    }
+    // A negative density (not a fog volume's) counts as none.
+    Float d = std::max(m.density->sample(pm), Float(0)) * m.scale;
+    mp.sigma_a = m.sigma_a.sample(lambda) * d;
+    mp.sigma_s = m.sigma_s.sample(lambda) * d;
+    if (m.temperature && m.le_scale > 0) {
+        Float t = (m.temperature->sample(pm) - m.temperature_offset) * m.temperature_scale;
+        if (t > 100 && std::isfinite(t))
+            mp.le = Spectrum(BlackbodySpectrum(t)).sample(lambda) * m.le_scale;
+    }
+    return mp;
+}
+
 template <typename F>
 void fill_majorants(MajorantGrid& g, F&& max_in) {
-    constexpr int n = MajorantGrid::kRes;
+    const int n = g.res;
     g.cells.assign(size_t(n) * n * n, 0);
     for (int z = 0; z < n; ++z)
         for (int y = 0; y < n; ++y)
@@ -103,6 +144,53 @@ void build_majorants(GridMedium& m) {
     });
 }
 
+Float cloud_density(const CloudMedium& m, Point3 p) {
+    Point3 pp(p.x * m.frequency, p.y * m.frequency, p.z * m.frequency);
+    if (m.wispiness > 0) {
+        // Two octaves of displacement by the noise's differences.
+        Float amplitude = Float(0.05) * m.wispiness, f = 10;
+        for (int i = 0; i < 2; ++i) {
+            pp = pp + perlin_noise_differences(Point3(pp.x * f, pp.y * f, pp.z * f)) * amplitude;
+            amplitude *= Float(0.5);
+            f *= Float(1.99);
+        }
+    }
+    // Five octaves of noise, then a fall-off with the height y and a floor below y = 0.5.
+    Float d = 0, omega = Float(0.5), f = 1;
+    for (int i = 0; i < 5; ++i) {
+        d += omega * perlin_noise(Point3(pp.x * f, pp.y * f, pp.z * f));
+        omega *= Float(0.5);
+        f *= Float(1.99);
+    }
+    d = std::clamp((1 - p.y) * Float(4.5) * m.density * d, Float(0), Float(1));
+    d += 2 * std::max(Float(0), Float(0.5) - p.y);
+    return std::clamp(d, Float(0), Float(1));
+}
+
+void build_majorants(CloudMedium& m) {
+    // cloud_density() = clamp(clamp((1 - y) 4.5 density N, 0, 1) + 2 max(0, 0.5 - y), 0, 1)
+    // with N the sum of five octaves of noise, weights 1/2 ... 1/32. Each noise value is a
+    // convex combination of gradient terms +-a +-b with |a|, |b| <= 1 (offsets from the cell's
+    // corners), so |noise| <= 2 and |N| <= 2 x 31/32: per cell, a true bound from its y range
+    // (y may exceed 1: there the first term is positive where N < 0). pbrt-v4 bounds the
+    // density by 1 everywhere; this is at most that.
+    m.majorant.res = MajorantGrid::kDefaultRes;
+    fill_majorants(m.majorant, [&](Point3 lo, Point3 hi) {
+        // (A little wider: the DDA's float arithmetic may place a point a hair outside.)
+        Float y0 = m.p0.y + (lo.y - Float(1e-4)) * (m.p1.y - m.p0.y);
+        Float y1 = m.p0.y + (hi.y + Float(1e-4)) * (m.p1.y - m.p0.y);
+        Float dy = std::max(std::abs(1 - y0), std::abs(1 - y1));
+        Float a = std::min(Float(1), dy * Float(4.5) * std::abs(m.density) * 2 * Float(31.0 / 32));
+        return std::min(Float(1), a + 2 * std::max(Float(0), Float(0.5) - y0));
+    });
+}
+
+void build_majorants(NanoVdbMedium& m) {
+    m.majorant.res = 64;
+    m.density->fill_majorants(m.majorant, m.p0, m.p1);
+    for (Float& c : m.majorant.cells) c *= m.scale;
+}
+
 void build_majorants(RgbGridMedium& m) {
     auto mx = [](const RgbUnboundedSpectrum& s) { return s.max_value(); };
     fill_majorants(m.majorant, [&](Point3 lo, Point3 hi) {
@@ -115,6 +203,8 @@ void build_majorants(RgbGridMedium& m) {
 bool is_emissive(const Medium& m) {
     if (auto* h = std::get_if<HomogeneousMedium>(&m)) return h->le_scale > 0;
     if (auto* g = std::get_if<GridMedium>(&m)) return g->emissive;
+    if (std::holds_alternative<CloudMedium>(m)) return false;
+    if (auto* v = std::get_if<NanoVdbMedium>(&m)) return v->temperature && v->le_scale > 0;
     const auto& r = std::get<RgbGridMedium>(m);
     return r.le && r.le_scale > 0;
 }
@@ -135,6 +225,15 @@ MajorantIterator::MajorantIterator(const Medium& m, const Ray& ray, Float t_max,
         m_sigma_t = (g->sigma_a.sample(lambda) + g->sigma_s.sample(lambda)) * g->scale;
         m_grid = &g->majorant;
         p0 = g->p0, p1 = g->p1, xf = &g->medium_from_world;
+    } else if (auto* c = std::get_if<CloudMedium>(&m)) {
+        m_sigma_t = c->sigma_a.sample(lambda) + c->sigma_s.sample(lambda);
+        m_grid = &c->majorant;
+        p0 = c->p0, p1 = c->p1, xf = &c->medium_from_world;
+    } else if (auto* v = std::get_if<NanoVdbMedium>(&m)) {
+        // The majorant grid holds scale x density.
+        m_sigma_t = v->sigma_a.sample(lambda) + v->sigma_s.sample(lambda);
+        m_grid = &v->majorant;
+        p0 = v->p0, p1 = v->p1, xf = &v->medium_from_world;
     } else {
         const auto& r = std::get<RgbGridMedium>(m);
         m_sigma_t = SampledSpectrum(1);
@@ -160,7 +259,7 @@ MajorantIterator::MajorantIterator(const Medium& m, const Ray& ray, Float t_max,
     }
     if (!(t0 < t1)) return;
     m_t0 = t0, m_t1 = t1, m_done = false;
-    constexpr int n = MajorantGrid::kRes;
+    const int n = m_grid->res;
     Point3 pg = o + d * t0;
     for (int a = 0; a < 3; ++a) {
         m_cell[a] = std::clamp(int(pg[a] * n), 0, n - 1);

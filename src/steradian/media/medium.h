@@ -1,9 +1,10 @@
 #pragma once
-/// Participating media (pbrt-v4's "homogeneous", "uniformgrid" and "rgbgrid"): their
-/// coefficients at a point, the Henyey-Greenstein phase function, and the majorants that
-/// delta and ratio tracking sample free flights against (one for a homogeneous medium, a
-/// coarse grid of maxima traversed by a 3D DDA for the grids).
+/// Participating media (pbrt-v4's "homogeneous", "uniformgrid", "rgbgrid", "cloud" and
+/// "nanovdb"): their coefficients at a point, the Henyey-Greenstein phase function, and the
+/// majorants that delta and ratio tracking sample free flights against (one for a
+/// homogeneous medium, a coarse grid of upper bounds traversed by a 3D DDA for the others).
 #include <array>
+#include <memory>
 #include <optional>
 #include <variant>
 #include <vector>
@@ -95,12 +96,14 @@ struct SampledGrid {
     }
 };
 
-/// A coarse grid of majorants over a grid medium's bounds (16^3 cells, as pbrt-v4): each
-/// cell holds the largest density the medium takes in it.
+/// A coarse grid of majorants over a medium's bounds (res^3 cells: 16^3 for pbrt-v4's grid
+/// media, 64^3 for "nanovdb", as pbrt-v4): each cell holds an upper bound of the density the
+/// medium takes in it.
 struct MajorantGrid {
-    static constexpr int kRes = 16;
-    std::vector<Float> cells;  ///< kRes^3, x fastest
-    Float at(int x, int y, int z) const { return cells[(size_t(z) * kRes + y) * kRes + x]; }
+    static constexpr int kDefaultRes = 16;
+    int res = kDefaultRes;
+    std::vector<Float> cells;  ///< res^3, x fastest
+    Float at(int x, int y, int z) const { return cells[(size_t(z) * res + y) * res + x]; }
 };
 
 /// pbrt-v4's "homogeneous": constant coefficients everywhere (no bounds: the surfaces that
@@ -142,7 +145,40 @@ struct RgbGridMedium {
     MajorantGrid majorant;  ///< of max(sigma_a + sigma_s) over the wavelengths, times scale
 };
 
-using Medium = std::variant<HomogeneousMedium, GridMedium, RgbGridMedium>;
+/// pbrt-v4's "cloud": sigma_a, sigma_s times a procedural density (octaves of Perlin noise
+/// at frequency x the point, the point first displaced by the noise's differences when
+/// `wispiness` > 0, fading with the height y; cloud_density()) over the box [p0, p1] of the
+/// medium's space. Not emissive.
+struct CloudMedium {
+    Point3 p0, p1;
+    Affine medium_from_world;
+    Spectrum sigma_a, sigma_s;
+    Float g = 0, density = 1, wispiness = 1, frequency = 5;
+    MajorantGrid majorant;  ///< of the density (at most 1: cloud_density() clamps it)
+};
+
+/// The density of a cloud medium at p, a point of the medium's space (pbrt-v4's
+/// CloudMedium::Density): in [0, 1].
+Float cloud_density(const CloudMedium& m, Point3 p);
+
+class NanoVdbGrid;  // media/nanovdb.h
+
+/// pbrt-v4's "nanovdb": sigma_a, sigma_s (times `scale`) times the trilinear interpolation
+/// of a NanoVDB density grid, over the grid's bounds in the medium's space (the grid's world
+/// space); emission Lescale x a blackbody (normalised to a peak of 1) of the optional
+/// temperature grid's (value - offset) x scale, where that is above 100 K.
+struct NanoVdbMedium {
+    Point3 p0, p1;  ///< the density's bounds, with the temperature's
+    Affine medium_from_world;
+    Spectrum sigma_a, sigma_s;
+    Float scale = 1, g = 0;
+    std::shared_ptr<const NanoVdbGrid> density, temperature;
+    Float le_scale = 1, temperature_offset = 0, temperature_scale = 1;
+    MajorantGrid majorant;  ///< of the density (64^3)
+};
+
+using Medium = std::variant<HomogeneousMedium, GridMedium, RgbGridMedium, CloudMedium,
+                            NanoVdbMedium>;
 
 /// The coefficients at a point.
 struct MediumProperties {
@@ -156,6 +192,8 @@ MediumProperties medium_properties(const Medium& m, Point3 p, const SampledWavel
 /// Fills the majorant grid of a grid medium (call once its grids are final).
 void build_majorants(GridMedium& m);
 void build_majorants(RgbGridMedium& m);
+void build_majorants(CloudMedium& m);
+void build_majorants(NanoVdbMedium& m);
 
 /// One segment [t0, t1) of a ray with a constant majorant.
 struct MajorantSegment {
@@ -164,7 +202,7 @@ struct MajorantSegment {
 };
 
 /// The majorant segments along a ray (t in units of the ray's direction) up to t_max, in
-/// order: one for a homogeneous medium; the cells a grid medium's bounds cut from the ray,
+/// order: one for a homogeneous medium; the cells the other media's bounds cut from the ray,
 /// visited by a 3D DDA. Segments of zero majorant may be skipped.
 class MajorantIterator {
   public:

@@ -8,8 +8,10 @@
 #include <cmath>
 #include <vector>
 
+#include "steradian/core/noise.h"
 #include "steradian/sampling/rng.h"
 #include "steradian/sampling/stats.h"
+#include "support/majorant_check.h"
 
 namespace sr {
 namespace {
@@ -211,6 +213,118 @@ TEST(HomogeneousMedium, TrackingGivesBeerLambert) {
     double p = std::exp(-1.6 * 3.6);
     double mean = sum / n, se = std::sqrt(p * (1 - p) / n);
     EXPECT_NEAR(mean, p, 4.5 * se);
+}
+
+// ---- pbrt-v4's "cloud" ------------------------------------------------------------------
+
+CloudMedium cloud(Float density, Float wispiness, Float frequency, Point3 p0, Point3 p1) {
+    CloudMedium m;
+    m.p0 = p0, m.p1 = p1;
+    m.sigma_a = ConstantSpectrum{0.5f};
+    m.sigma_s = ConstantSpectrum{2};
+    m.density = density, m.wispiness = wispiness, m.frequency = frequency;
+    build_majorants(m);
+    return m;
+}
+
+Point3 scaled(Point3 p, double s) { return Point3(Float(p.x * s), Float(p.y * s), Float(p.z * s)); }
+
+// pbrt-v4's CloudMedium::Density, term by term from its definition: the point times the
+// frequency, displaced twice by 0.05 w 2^-i times the noise's forward differences at
+// 10 x 1.99^i times it; five octaves 2^-(i+1) noise(1.99^i pp); (1 - y) 4.5 density times
+// that, clamped to [0, 1], plus 2 max(0, 0.5 - y), clamped to [0, 1].
+double cloud_by_hand(Point3 p, double density, double wispiness, double frequency) {
+    Point3 pp = scaled(p, frequency);
+    if (wispiness > 0) {
+        pp = pp + perlin_noise_differences(scaled(pp, 10)) * Float(0.05 * wispiness);
+        pp = pp + perlin_noise_differences(scaled(pp, 19.9)) * Float(0.025 * wispiness);
+    }
+    double n = 0;
+    for (int i = 0; i < 5; ++i) n += std::pow(0.5, i + 1) * perlin_noise(scaled(pp, std::pow(1.99, i)));
+    double d = std::clamp((1 - p.y) * 4.5 * density * n, 0.0, 1.0);
+    return std::clamp(d + 2 * std::max(0.0, 0.5 - p.y), 0.0, 1.0);
+}
+
+TEST(CloudMedium, DensityIsPbrtV4sDefinition) {
+    // Where the noise drops out (density 0): 2 max(0, 0.5 - y), clamped to 1.
+    CloudMedium flat = cloud(0, 0, 5, Point3(-1, -1, -1), Point3(2, 2, 2));
+    EXPECT_FLOAT_EQ(cloud_density(flat, Point3(0.3f, 0.3f, 0.7f)), 0.4f);
+    EXPECT_FLOAT_EQ(cloud_density(flat, Point3(0.9f, 0.1f, 0.2f)), 0.8f);
+    EXPECT_FLOAT_EQ(cloud_density(flat, Point3(0.5f, -0.2f, 0.5f)), 1);
+    EXPECT_FLOAT_EQ(cloud_density(flat, Point3(0.5f, 0.7f, 0.5f)), 0);
+    // At y = 1 the noise term vanishes for any density.
+    CloudMedium dense = cloud(7, 1, 5, Point3(0, 0, 0), Point3(1, 1, 1));
+    EXPECT_EQ(cloud_density(dense, Point3(0.37f, 1, 0.81f)), 0);
+    // Elsewhere, the definition evaluated from the noise values (pbrt-v4's Noise: the same
+    // permutation table, gradients and fade, core/noise.h).
+    for (Float wisp : {0.0f, 1.0f, 2.5f})
+        for (Float dens : {1.0f, 2.0f, -1.5f}) {
+            CloudMedium m = cloud(dens, wisp, 5, Point3(-1, -1, -1), Point3(2, 2, 2));
+            Pcg32 rng(uint64_t(wisp * 10 + dens * 100 + 1000), 4);
+            for (int i = 0; i < 200; ++i) {
+                Point3 p(rng.next_float() * 2 - 0.5f, rng.next_float() * 1.5f - 0.25f,
+                         rng.next_float());
+                EXPECT_NEAR(cloud_density(m, p), cloud_by_hand(p, dens, wisp, 5), 2e-5)
+                    << p.x << " " << p.y << " " << p.z;
+            }
+        }
+    // pbrt-v4's DNoise: forward differences of step 0.01.
+    Point3 q(1.3f, -0.7f, 2.2f);
+    Vec3 dn = perlin_noise_differences(q);
+    EXPECT_FLOAT_EQ(dn.y, (perlin_noise(q.x, q.y + 0.01f, q.z) - perlin_noise(q)) / 0.01f);
+}
+
+TEST(CloudMedium, MajorantBoundsTheDensityEverywhere) {
+    struct Case {
+        Float density, wispiness, frequency;
+        Point3 p0, p1;
+    };
+    // Bounds across y = 0.5 and y = 1 (above 1 the density is positive where the noise is
+    // negative), negative densities, strong wispiness.
+    for (const Case& c : {Case{1, 1, 5, Point3(0, 0, 0), Point3(1, 1, 1)},
+                          Case{2, 0, 3, Point3(-2, -0.5f, 1), Point3(3, 2.5f, 2)},
+                          Case{-4, 3, 8, Point3(0, 0.9f, 0), Point3(1, 3, 1)},
+                          Case{0.3f, 1, 5, Point3(0, 0.6f, 0), Point3(1, 1.2f, 1)}}) {
+        CloudMedium m = cloud(c.density, c.wispiness, c.frequency, c.p0, c.p1);
+        test::MajorantCheck r = test::check_majorant(
+            m.majorant, m.p0, m.p1, [&](Point3 p) { return cloud_density(m, p); }, 100000, 5);
+        EXPECT_EQ(r.violations, 0) << "density " << c.density;
+        EXPECT_GT(r.largest, 0.05);  // the test looks where the cloud is
+    }
+}
+
+TEST(CloudMedium, NothingScattersOutsideItsBounds) {
+    CloudMedium c = cloud(2, 1, 5, Point3(0, 0, 0), Point3(1, 1, 1));
+    // A translation: medium space = world - (3, 0, 0).
+    c.medium_from_world.m = {1, 0, 0, -3, 0, 1, 0, 0, 0, 0, 1, 0};
+    Medium m = c;
+    SampledWavelengths lambda = SampledWavelengths::sample_visible(0.5f);
+    // Below y = 0.5 inside, the density is at least 2 (0.5 - y) > 0...
+    EXPECT_GT(medium_properties(m, Point3(3.5f, 0.2f, 0.5f), lambda).sigma_s[0], 0);
+    // ...and outside the box (here where y < 0.5 would give density 1) it is 0.
+    for (Point3 p : {Point3(0.5f, 0.2f, 0.5f), Point3(3.5f, -0.2f, 0.5f), Point3(4.01f, 0.2f, 0.5f)}) {
+        MediumProperties mp = medium_properties(m, p, lambda);
+        EXPECT_EQ(mp.sigma_a[0] + mp.sigma_s[0], 0) << p.x << " " << p.y;
+    }
+    // A ray that misses the box: no tentative collision, transmittance 1.
+    Pcg32 rng(1, 1);
+    int calls = 0;
+    SampledSpectrum t = sample_t_maj(
+        m, Ray{Point3(0, 0.2f, 0.5f), Vec3(1, 0, 0), kInfinity}, Float(2.9), rng.next_float(),
+        rng, lambda, [&](Point3, const MediumProperties&, SampledSpectrum, SampledSpectrum) {
+            ++calls;
+            return true;
+        });
+    EXPECT_EQ(calls, 0);
+    EXPECT_EQ(t[0], 1);
+    // Through the box: every tentative collision lies inside it.
+    for (int i = 0; i < 200; ++i)
+        sample_t_maj(m, Ray{Point3(0, 0.2f, 0.5f), Vec3(1, 0, 0), kInfinity}, kInfinity,
+                     rng.next_float(), rng, lambda,
+                     [&](Point3 p, const MediumProperties&, SampledSpectrum, SampledSpectrum) {
+                         EXPECT_TRUE(p.x >= 2.999f && p.x <= 4.001f) << p.x;
+                         return true;
+                     });
 }
 
 }  // namespace

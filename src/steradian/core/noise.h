@@ -11,6 +11,10 @@ namespace sr {
 Float perlin_noise(Float x, Float y = Float(0.5), Float z = Float(0.5));
 inline Float perlin_noise(Point3 p) { return perlin_noise(p.x, p.y, p.z); }
 
+/// The forward differences (noise(p + 0.01 e_i) - noise(p)) / 0.01 along x, y and z: an
+/// estimate of the noise's gradient, pbrt-v4's DNoise (which "cloud" media use).
+Vec3 perlin_noise_differences(Point3 p);
+
 /// sum over i < n of omega^i noise(1.99^i p), band-limited by the footprint (dpdx, dpdy) as
 /// pbrt-v4's FBm: n = clamp(-1 - log2(max(|dpdx|^2, |dpdy|^2)) / 2, 0, max_octaves) octaves
 /// (an octave of period finer than about two footprints is left out), the fractional one

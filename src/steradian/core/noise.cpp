@@ -1,4 +1,4 @@
-#include "steradian/material/noise.h"
+#include "steradian/core/noise.h"
 
 #include <cmath>
 
@@ -60,6 +60,14 @@ Float perlin_noise(Float x, Float y, Float z) {
     const Float y0 = lerp(wy, lerp(wx, w000, w100), lerp(wx, w010, w110));
     const Float y1 = lerp(wy, lerp(wx, w001, w101), lerp(wx, w011, w111));
     return lerp(wz, y0, y1);
+}
+
+Vec3 perlin_noise_differences(Point3 p) {
+    constexpr Float delta = Float(0.01);
+    const Float n = perlin_noise(p);
+    return Vec3(perlin_noise(p.x + delta, p.y, p.z) - n, perlin_noise(p.x, p.y + delta, p.z) - n,
+                perlin_noise(p.x, p.y, p.z + delta) - n) /
+           delta;
 }
 
 namespace {

@@ -1,7 +1,7 @@
 // Perlin's improved noise and the noise textures, against their definitions: gradient noise
 // vanishes at lattice points and repeats every 256 cells; FBm and turbulence are the stated
 // octave sums; pbrt-v4's dots are disks of radius 0.35 in the cells that have one.
-#include "steradian/material/noise.h"
+#include "steradian/core/noise.h"
 
 #include <gtest/gtest.h>
 
