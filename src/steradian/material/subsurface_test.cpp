@@ -89,14 +89,14 @@ TEST(SubsurfaceMaterial, NamedMediumTimesScale) {
 // and the albedo from the inversion, per wavelength.
 TEST(SubsurfaceMaterial, ReflectanceAndMeanFreePath) {
     Scene s =
-        build(R"(Material "subsurface" "float reflectance" 0.5 "float mfp" 0.25 "float scale" 2)");
+        build(R"(Material "subsurface" "spectrum reflectance" [ 300 0.5 900 0.5 ] "spectrum mfp" [ 300 0.25 900 0.25 ] "float scale" 2)");
     SubsurfaceCoefficients c = coefficients(s);
     const Float alpha = subsurface_albedo(0.5f);
     for (int i = 0; i < kSpectrumSamples; ++i) {
         EXPECT_NEAR(c.sigma_s[i] + c.sigma_a[i], 2.0, 1e-5);  // 1 / (0.25 * 2)
         EXPECT_NEAR(c.sigma_s[i], 2 * alpha, 1e-5);
     }
-    Scene d = build(R"(Material "subsurface" "float reflectance" 0.5)");
+    Scene d = build(R"(Material "subsurface" "spectrum reflectance" [ 300 0.5 900 0.5 ])");
     SubsurfaceCoefficients e = coefficients(d);
     EXPECT_NEAR(e.sigma_s[0] + e.sigma_a[0], 1.0, 1e-6);
 }
@@ -143,8 +143,8 @@ TEST(SubsurfaceMaterial, ErrorsAreLocated) {
     expect_error(R"(Material "subsurface" "string name" "Skin9")", "\"Skin9\"", "\"string name\"");
     expect_error(R"(Material "subsurface" "float eta" 0)", "\"eta\"", "\"float eta\"");
     expect_error(R"(Material "subsurface" "float g" 1)", "\"g\"", "\"float g\"");
-    expect_error(R"(Material "subsurface" "float reflectance" 0.5 "float mfp" 0)", "\"mfp\"",
-                 "\"float mfp\"");
+    expect_error(R"(Material "subsurface" "rgb reflectance" [ .5 .5 .5 ] "spectrum mfp" [ 300 0 900 0 ])",
+                 "\"mfp\"", "\"spectrum mfp\"");
 }
 
 /// pbrt-v4's FresnelMoment1 (a polynomial fit of int_0^1 F_r(mu, eta) mu dmu), as a reference
@@ -196,7 +196,7 @@ TEST(NormalizedFresnelLobe, IntegratesToOne) {
             sum += w;
             sum2 += w * w;
         }
-        double mean = sum / kN, se = std::sqrt((sum2 / kN - mean * mean) / kN);
+        double mean = sum / kN, se = std::sqrt(std::max(0.0, sum2 / kN - mean * mean) / kN);
         EXPECT_NEAR(mean, 1.0, 4.5 * se + 1e-6) << "se " << se;
     }
 }

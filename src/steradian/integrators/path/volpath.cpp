@@ -312,6 +312,9 @@ class VolPath {
         const Point2 u2 = m_sampler.get_2d();
         auto bs = bsdf.sample(hit.wo, 0, u2);
         if (!bs || !(bs->pdf_sa > 0)) return false;
+        // A direction outwards of the shading normal but inwards of the surface itself
+        // (interpolated normals) would re-enter the object as if from outside: it ends here.
+        if ((dot(bs->wi, hit.ng) > 0) != out_along_ng) return false;
         m_beta *= bs->f * (absdot(bs->wi, n) / bs->pdf_sa);
         m_r_l = m_r_u / bs->pdf_sa;
         m_specular_bounce = false;
