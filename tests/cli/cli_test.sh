@@ -71,10 +71,10 @@ check "bad scene names file:line:col" grep -q "bad.pbrt:2:" "$tmp/bad.txt"
 "$bin" render "$tmp/missing.pbrt" > "$tmp/missing.txt" 2>&1
 check "missing scene exits non-zero" test $? -ne 0
 check "missing scene is named" grep -q "missing.pbrt" "$tmp/missing.txt"
-printf 'WorldBegin\nMaterial "subsurface"\nShape "sphere"\n' > "$tmp/unsup.pbrt"
+printf 'WorldBegin\nShape "heightfield"\n' > "$tmp/unsup.pbrt"
 "$bin" render "$tmp/unsup.pbrt" -o "$tmp/u.exr" > "$tmp/unsup.txt" 2>&1
-check "unsupported material exits non-zero" test $? -ne 0
-check "unsupported material says so" grep -q "not supported yet" "$tmp/unsup.txt"
+check "unsupported shape exits non-zero" test $? -ne 0
+check "unsupported shape says so" grep -q "not supported yet" "$tmp/unsup.txt"
 "$bin" render "$tmp/small.pbrt" -o "$tmp/out.xyz" --quiet > "$tmp/ext.txt" 2>&1
 check "unknown output extension exits non-zero" test $? -ne 0
 "$bin" render "$tmp/small.pbrt" --spp -3 > /dev/null 2>&1

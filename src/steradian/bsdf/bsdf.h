@@ -17,6 +17,7 @@
 #include "steradian/bsdf/lambert.h"
 #include "steradian/bsdf/layered.h"
 #include "steradian/bsdf/measured.h"
+#include "steradian/bsdf/normalized_fresnel.h"
 #include "steradian/bsdf/phong.h"
 #include "steradian/bsdf/thin_dielectric.h"
 #include "steradian/bsdf/ward.h"
@@ -31,10 +32,10 @@ concept Lobe = requires(const L& l, Vec3 w, Float uc, Point2 u, TransportMode m)
     { l.flags() } -> std::same_as<uint8_t>;
 };
 
-using LobeVariant = std::variant<LambertLobe, DielectricLobe, ThinDielectricLobe, ConductorLobe,
-                                 DiffuseTransmissionLobe, PhongLobe, LafortuneLobe, WardLobe,
-                                 CoatedDiffuseLobe, CoatedConductorLobe, HairLobe,
-                                 MeasuredLobe>;
+using LobeVariant =
+    std::variant<LambertLobe, DielectricLobe, ThinDielectricLobe, ConductorLobe,
+                 DiffuseTransmissionLobe, PhongLobe, LafortuneLobe, WardLobe, CoatedDiffuseLobe,
+                 CoatedConductorLobe, HairLobe, MeasuredLobe, NormalizedFresnelLobe>;
 /// Whether a lobe's sample() reads its 1D sample uc; a lobe that does not says so with
 /// `static constexpr bool kIgnoresUc = true`.
 template <typename L>
@@ -52,6 +53,7 @@ static_assert(Lobe<CoatedDiffuseLobe>);
 static_assert(Lobe<CoatedConductorLobe>);
 static_assert(Lobe<HairLobe>);
 static_assert(Lobe<MeasuredLobe>);
+static_assert(Lobe<NormalizedFresnelLobe>);
 
 class Bsdf {
   public:

@@ -249,7 +249,13 @@ std::optional<Bsdf> bsdf_at(const Material& m, const MaterialContext& ctx, const
                 out.emplace(shading_frame(h), h.ng, MeasuredLobe{mat.brdf.get(), lambda});
             } else if constexpr (std::is_same_v<T, MixMaterial>) {
                 out = make_bsdf((*ctx.materials)[mix_choice(mat, ctx, h)], ctx, h, lambda);
+            } else if constexpr (std::is_same_v<T, SubsurfaceMaterial>) {
+                // pbrt-v4's SubsurfaceMaterial::GetBxDF: the boundary is a dielectric; what
+                // it transmits inside, the integrator's random walk carries (volpath.cpp).
+                out.emplace(shading_frame(h), h.ng,
+                            DielectricLobe{mat.eta, microfacets(mat.roughness, ctx, h)});
             } else {
+                static_assert(std::is_same_v<T, DiffuseTransmissionMaterial>);
                 SampledSpectrum r = clamped(evaluate(tex[mat.reflectance], h, lambda) * mat.scale);
                 SampledSpectrum t = clamped(evaluate(tex[mat.transmittance], h, lambda) * mat.scale);
                 out.emplace(shading_frame(h), h.ng, DiffuseTransmissionLobe{r, t});
@@ -260,6 +266,15 @@ std::optional<Bsdf> bsdf_at(const Material& m, const MaterialContext& ctx, const
 }
 
 }  // namespace
+
+const SubsurfaceMaterial* subsurface_at(const Material& m, const MaterialContext& ctx,
+                                        const SurfaceHit& h) {
+    const Material* cur = &m;
+    // A mix of mixes resolves in a few steps (the builder rejects cycles).
+    while (const auto* mix = std::get_if<MixMaterial>(cur))
+        cur = &(*ctx.materials)[mix_choice(*mix, ctx, h)];
+    return std::get_if<SubsurfaceMaterial>(cur);
+}
 
 std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, const SurfaceHit& h,
                               SampledWavelengths& lambda) {

@@ -150,11 +150,28 @@ struct MeasuredMaterial : MaterialCommon {
     std::shared_ptr<const MeasuredBrdf> brdf;
 };
 
-using Material = std::variant<DiffuseMaterial, InterfaceMaterial, DielectricMaterial,
-                              ThinDielectricMaterial, ConductorMaterial,
-                              DiffuseTransmissionMaterial, PhongMaterial, LafortuneMaterial,
-                              WardMaterial, CoatedDiffuseMaterial, CoatedConductorMaterial,
-                              MixMaterial, HairMaterial, MeasuredMaterial>;
+/// pbrt-v4 "subsurface": a dielectric boundary (eta, roughness: its BSDF at a hit is pbrt-v4's
+/// SubsurfaceMaterial::GetBxDF) over a scattering interior. Light refracted into the object is
+/// transported by a volumetric random walk in a homogeneous medium of the coefficients below
+/// (integrators/path/volpath.cpp), and leaves where the walk meets the boundary with the
+/// NormalizedFresnelLobe (bsdf/normalized_fresnel.h). The interior's coefficients per unit
+/// length come from sigma_a and sigma_s (times scale), or from a reflectance and a mean free
+/// path (material/subsurface.h). Only meaningful on closed meshes.
+struct SubsurfaceMaterial : MaterialCommon {
+    int sigma_a = -1, sigma_s = -1;  ///< spectrum textures (unbounded); -1: use reflectance
+    int reflectance = -1, mfp = -1;  ///< spectrum textures, when sigma_a is -1
+    Float scale = 1;                 ///< multiplies sigma_a, sigma_s and mfp (as pbrt-v4)
+    Float eta = 1.33f;               ///< relative IOR of the boundary
+    Float g = 0;                     ///< Henyey-Greenstein asymmetry of the interior
+    Float exit_c = 1;                ///< normalized_fresnel_c(eta), computed once
+    Roughness roughness;             ///< of the boundary
+};
+
+using Material =
+    std::variant<DiffuseMaterial, InterfaceMaterial, DielectricMaterial, ThinDielectricMaterial,
+                 ConductorMaterial, DiffuseTransmissionMaterial, PhongMaterial, LafortuneMaterial,
+                 WardMaterial, CoatedDiffuseMaterial, CoatedConductorMaterial, MixMaterial,
+                 HairMaterial, MeasuredMaterial, SubsurfaceMaterial>;
 
 struct MaterialContext {
     const std::vector<SpectrumTexture>* spectrum_textures = nullptr;
@@ -175,5 +192,10 @@ std::optional<Bsdf> make_bsdf(const Material& m, const MaterialContext& ctx, con
 /// likewise dpdv', ns' = dpdu' x dpdv' on the side of the old ns (as pbrt-v4). The new
 /// shading normal is flipped to the geometric normal's side.
 void perturb_shading(const MaterialCommon& c, const MaterialContext& ctx, SurfaceHit& h);
+
+/// The subsurface material that m is at hit h ("mix" resolved as make_bsdf resolves it), or
+/// null if it is another material.
+const SubsurfaceMaterial* subsurface_at(const Material& m, const MaterialContext& ctx,
+                                        const SurfaceHit& h);
 
 }  // namespace sr

@@ -184,7 +184,7 @@ TEST(SceneBuild, UnsupportedThingsAreAllReportedInFileOrder) {
 Sampler "halton" "integer pixelsamples" 4 "string bogus" "x"
 WorldBegin
 Texture "t" "spectrum" "ptex"
-Material "subsurface"
+Texture "c" "float" "checkerboard" "integer dimension" 3
 MakeNamedMaterial "m" "string type" "diffuse" "texture reflectance" "t" "float sigma" 2
 NamedMaterial "m"
 Shape "heightfield"
@@ -203,7 +203,7 @@ Shape "disk"
          {"\nt.pbrt:1:1: Camera \"spherical\" is not supported yet",
           "\nt.pbrt:2:43: unused parameter \"string bogus\" for Sampler \"halton\"",
           "\nt.pbrt:4:1: Texture \"ptex\" is not supported yet",
-          "\nt.pbrt:5:1: material type \"subsurface\" is not supported yet",
+          "\nt.pbrt:5:36: Texture \"c\": 3D checkerboards are not supported yet",
           "\nt.pbrt:6:73: unused parameter \"float sigma\"",
           "\nt.pbrt:8:1: shape type \"heightfield\" is not supported yet",
           "\nt.pbrt:10:20: LightSource \"spot\": \"conedelta\" is not a pbrt-v4 parameter",

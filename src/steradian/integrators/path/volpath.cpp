@@ -2,6 +2,8 @@
 
 #include <climits>
 
+#include "steradian/bsdf/normalized_fresnel.h"
+#include "steradian/material/subsurface.h"
 #include "steradian/media/medium.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/sampling/rng.h"
@@ -14,6 +16,16 @@ namespace {
 /// The random-number stream of a tracking loop, keyed by two sample values (or a shadow ray's
 /// origin and direction), so the number of collisions does not shift the sampler's dimensions.
 Pcg32 tracking_rng(uint64_t a, uint64_t b) { return Pcg32(hash(a), hash(b)); }
+
+/// The path's medium while it random-walks inside a subsurface material: the homogeneous
+/// medium of that material at the entry point (VolPath::m_walk), held by the path itself
+/// rather than by the scene's list of media.
+constexpr int kWalkMedium = -2;
+/// The most real scattering events of one random walk. pbrt-v4 counts a whole subsurface hop
+/// as one bounce of "maxdepth", so the walk's events do not count against it (a head rendered
+/// with maxdepth 2 would otherwise be dark); this bound only stops walks in media of albedo
+/// very close to 1 in bodies many mean free paths across, which then lose that energy.
+constexpr int kMaxWalkScatterings = 1024;
 
 /// The path's state. All weights follow pbrt-v4's volpath formulation: beta is the
 /// throughput divided by the hero wavelength's path pdf, and r_u, r_l are the ratios of every
@@ -36,7 +48,7 @@ class VolPath {
     void trace(Ray ray, int medium, bool found, SurfaceHit& hit) {
         int crossings = 0;
         while (true) {
-            if (medium >= 0) {
+            if (medium >= 0 || medium == kWalkMedium) {
                 m_current_medium = medium;
                 bool scattered = false, terminated = false;
                 Float t_max = found ? hit.t : kInfinity;
@@ -46,13 +58,14 @@ class VolPath {
                 const Float u = m_sampler.get_1d();
                 const Vec3 wo = -normalize(ray.d);
                 Ray next;
-                SampledSpectrum t_maj =
-                    sample_t_maj(m_scene.media[size_t(medium)], ray, t_max, u, rng, m_lambda,
-                                 [&](Point3 p, const MediumProperties& mp,
-                                     SampledSpectrum sigma_maj, SampledSpectrum tm) {
-                                     return collision(p, mp, sigma_maj, tm, wo, rng, scattered,
-                                                      terminated, next);
-                                 });
+                auto on_collision = [&](Point3 p, const MediumProperties& mp,
+                                        SampledSpectrum sigma_maj, SampledSpectrum tm) {
+                    return collision(p, mp, sigma_maj, tm, wo, rng, scattered, terminated, next);
+                };
+                SampledSpectrum t_maj = medium == kWalkMedium
+                                            ? sample_walk(ray, t_max, u, rng, on_collision)
+                                            : sample_t_maj(m_scene.media[size_t(medium)], ray,
+                                                           t_max, u, rng, m_lambda, on_collision);
                 if (terminated || m_beta.is_zero() || m_r_u.is_zero()) return;
                 if (scattered) {
                     ray = next;
@@ -64,6 +77,22 @@ class VolPath {
                 m_r_u *= t_maj / t_maj[0];
                 m_r_l *= t_maj / t_maj[0];
                 if (m_beta.has_nonfinite() || m_r_u.has_nonfinite()) return;
+            }
+            if (medium == kWalkMedium) {
+                // The walk reached a surface: it leaves the object there. A walk whose ray
+                // meets nothing (an open mesh) ends the path with what it has gathered.
+                if (!found) return;
+                if (hit.material < 0) {  // an interface inside the object: walk on through it
+                    if (++crossings > 256) return;
+                    ray = spawn_ray(hit, ray.d);
+                    ++m_counters.rays;
+                    found = m_scene.intersect(ray, hit);
+                    continue;
+                }
+                if (!leave_walk(ray, hit, medium)) return;
+                ++m_counters.rays;
+                found = m_scene.intersect(ray, hit);
+                continue;
             }
             if (!found) {
                 escaped(ray);
@@ -104,7 +133,12 @@ class VolPath {
             m_specular_bounce = bs->is_specular();
             m_any_non_specular |= !m_specular_bounce;
             if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
+            const int outside = medium;
             medium = medium_after(hit, bs->wi, medium);
+            if (bs->is_transmission())
+                if (const SubsurfaceMaterial* ss =
+                        subsurface_at(m_scene.materials[hit.material], m_mctx, hit))
+                    medium = enter_walk(*ss, hit, outside);
             ray = spawn_ray(hit, bs->wi);
             if (m_beta.is_zero()) return;
             if (!russian_roulette()) return;
@@ -151,8 +185,9 @@ class VolPath {
             terminated = true;
             return false;
         }
+        const bool walk = m_current_medium == kWalkMedium;
         if (um < p_absorb + p_scatter) {
-            if (m_depth++ >= m_max_depth) {
+            if (walk ? ++m_walk.scatterings > kMaxWalkScatterings : m_depth++ >= m_max_depth) {
                 terminated = true;
                 return false;
             }
@@ -166,7 +201,9 @@ class VolPath {
             m_medium_g = mp.g;
             m_medium_p = p;
             m_medium_wo = wo;
-            L += sample_light(SurfaceVertex{}, m_current_medium);
+            // No light sampling inside a subsurface walk: a shadow ray could not cross its
+            // dielectric boundary (the exit vertex samples the lights instead).
+            if (!walk) L += sample_light(SurfaceVertex{}, m_current_medium);
             PhaseSample ps = sample_hg(wo, mp.g, m_sampler.get_2d());
             if (!(ps.p > 0)) {
                 terminated = true;
@@ -193,6 +230,101 @@ class VolPath {
         m_r_u *= t_maj * sigma_n / pdf;
         m_r_l *= t_maj * sigma_maj / pdf;
         return !m_beta.is_zero() && !m_r_u.is_zero();
+    }
+
+    // ---- subsurface scattering ------------------------------------------------------------
+    // A subsurface material is rendered as pbrt-v4 renders it at its boundary, with a random
+    // walk in between instead of pbrt-v4's tabulated BSSRDF: the hit's BSDF is the material's
+    // dielectric (material.cpp); a refraction into the object starts a walk in the
+    // homogeneous medium of the material's coefficients at that entry point (free flights and
+    // collisions as in any medium, with this kernel's spectral MIS, but no light sampling
+    // inside); where the walk reaches the boundary, the path leaves with pbrt-v4's exit lobe
+    // (bsdf/normalized_fresnel.h), at which lights are sampled with MIS and the next direction
+    // is drawn. The random walk transports light inside exactly for any shape and albedo
+    // (no diffusion profile); pbrt-v4's entry and exit lobes keep the image comparable with
+    // pbrt-v4's and let point lights, which a walk could never hit, light the object.
+
+    /// The walk's medium: the coefficients at the entry point, the boundary's eta and the
+    /// exit lobe's normalisation, and the medium the path returns to.
+    struct Walk {
+        MediumProperties props;
+        Float eta = 1, exit_c = 1;
+        int outside = -1;
+        int scatterings = 0;
+    };
+
+    /// Starts a walk inside material m, entered at hit from medium `outside`; returns the
+    /// path's new medium (kWalkMedium).
+    int enter_walk(const SubsurfaceMaterial& m, const SurfaceHit& hit, int outside) {
+        SubsurfaceCoefficients c = subsurface_coefficients(m, m_mctx, hit, m_lambda);
+        m_walk.props.sigma_a = c.sigma_a;
+        m_walk.props.sigma_s = c.sigma_s;
+        m_walk.props.le = SampledSpectrum(0);
+        m_walk.props.g = m.g;
+        m_walk.eta = m.eta;
+        m_walk.exit_c = m.exit_c;
+        m_walk.outside = outside;
+        m_walk.scatterings = 0;
+        return kWalkMedium;
+    }
+
+    /// sample_t_maj (media/medium.h) for the walk's medium: homogeneous, its coefficients
+    /// already at the path's wavelengths, so one majorant segment with sigma_maj = sigma_t
+    /// (every tentative collision is a real one).
+    template <typename F>
+    SampledSpectrum sample_walk(Ray ray, Float t_max, Float u, Pcg32& rng, F&& callback) const {
+        const Float len = length(ray.d);
+        t_max = std::min(t_max * len, std::numeric_limits<Float>::max());
+        ray.d = ray.d / len;
+        const SampledSpectrum sigma_t = m_walk.props.sigma_a + m_walk.props.sigma_s;
+        Float t0 = 0;
+        if (sigma_t[0] > 0) {
+            while (true) {
+                Float t = t0 - std::log1p(-std::min(u, Float(0x1.fffffep-1))) / sigma_t[0];
+                u = rng.next_float();
+                if (!(t < t_max)) break;
+                if (!callback(ray.at(t), m_walk.props, sigma_t, exp(sigma_t * -(t - t0))))
+                    return SampledSpectrum(1);
+                t0 = t;
+            }
+        }
+        return exp(sigma_t * -(t_max - t0));
+    }
+
+    /// The walk, arriving along `ray`, leaves the object at `hit`: lights are sampled from
+    /// the exit lobe there, and the path goes on outwards along a direction drawn from it.
+    /// As pbrt-v4, the exit vertex does not count against maxdepth. False: the path ends.
+    bool leave_walk(Ray& ray, SurfaceHit& hit, int& medium) {
+        // Outwards: the side of the surface the walk's ray was heading for; the lobe's frame
+        // has the shading normal turned to that side (pbrt-v4 uses wo = ns at the exit).
+        const bool out_along_ng = dot(ray.d, hit.ng) > 0;
+        const Normal3 n = out_along_ng == (dot(hit.ns, hit.ng) > 0) ? hit.ns : -hit.ns;
+        hit.wo = Vec3(n.x, n.y, n.z);
+        const Bsdf bsdf(Frame::from_z(n), hit.ng, NormalizedFresnelLobe{m_walk.eta, m_walk.exit_c});
+        if (!m_scene.light_sampler.empty()) {
+            L += sample_light(SurfaceVertex{&hit, &bsdf}, m_walk.outside);
+        } else {
+            m_sampler.skip_1d();
+            m_sampler.skip_2d();
+        }
+        m_prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
+        m_sampler.skip_1d();  // the lobe does not read uc
+        const Point2 u2 = m_sampler.get_2d();
+        auto bs = bsdf.sample(hit.wo, 0, u2);
+        if (!bs || !(bs->pdf_sa > 0)) return false;
+        // A direction outwards of the shading normal but inwards of the surface itself
+        // (interpolated normals) would re-enter the object as if from outside: it ends here.
+        if ((dot(bs->wi, hit.ng) > 0) != out_along_ng) return false;
+        m_beta *= bs->f * (absdot(bs->wi, n) / bs->pdf_sa);
+        m_r_l = m_r_u / bs->pdf_sa;
+        m_specular_bounce = false;
+        m_any_non_specular = true;
+        // The lobe carries eta^2 (Radiance mode), undoing the entry's 1 / eta^2.
+        m_eta_scale /= sqr(m_walk.eta);
+        medium = medium_after(hit, bs->wi, m_walk.outside);
+        ray = spawn_ray(hit, bs->wi);
+        if (m_beta.is_zero() || m_beta.has_nonfinite()) return false;
+        return russian_roulette();
     }
 
     bool russian_roulette() {
@@ -353,6 +485,7 @@ class VolPath {
     Point3 m_medium_p;
     Vec3 m_medium_wo;
     Float m_medium_g = 0;
+    Walk m_walk;  ///< the subsurface walk the path is in (medium kWalkMedium)
 };
 
 }  // namespace

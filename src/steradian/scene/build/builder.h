@@ -116,6 +116,7 @@ class Builder {
     std::pair<Spectrum, bool> named_eta_param(const ParamSet& ps, const std::string& name,
                                               Float def);
     LayerParams layer_params(const ParamSet& ps, const std::string& what);
+    SubsurfaceMaterial subsurface_params(const ParamSet& ps, const std::string& what);
 
     // ---- materials (materials.cpp) -----------------------------------------------------
     void resolve_mixes();
@@ -188,6 +189,10 @@ class Builder {
 
     // ---- media (media.cpp) -------------------------------------------------------------
     void build_media();
+    /// Renders the scene with the volumetric kernel (integrators/path/volpath.cpp) because it
+    /// has `what` ("participating media", "subsurface materials"), with "path" too (warning
+    /// that pbrt-v4's `pbrt_path`); records as unsupported a strategy other than MIS and meters.
+    void use_volumetric_kernel(const std::string& what, const std::string& pbrt_path);
     /// The index of the named medium ("" = vacuum: -1); an error at `loc` if undefined.
     int medium_index(const std::string& name, const SourceLoc& loc) const;
 

@@ -1,4 +1,6 @@
 /// Material parameters: roughness, indices of refraction, reflectances, lobes and layers.
+#include "steradian/bsdf/normalized_fresnel.h"
+#include "steradian/media/medium.h"
 #include "steradian/scene/build/builder.h"
 
 namespace sr::build_detail {
@@ -199,6 +201,79 @@ LayerParams Builder::layer_params(const ParamSet& ps, const std::string& what) {
     l.max_depth = count("maxdepth", 10, 0);
     l.n_samples = count("nsamples", 1, 1);
     return l;
+}
+
+// ---- subsurface --------------------------------------------------------------------
+/// pbrt-v4's SubsurfaceMaterial::Create. The interior from the first of: "name" (a measured
+/// medium of pbrt-v4's table, sigma_s' and sigma_a per mm as sRGB; "g" is then 0, with a
+/// warning if given, since the table holds reduced scattering coefficients), "sigma_a" with
+/// "sigma_s" (unbounded spectrum textures; one without the other is an error), "reflectance"
+/// (a spectrum texture) with "mfp" (unbounded, default 1), else pbrt-v4's defaults sigma_a =
+/// RGB(.0011, .0024, .014), sigma_s = RGB(2.55, 3.21, 3.77) (whole milk). "scale" (1), "eta"
+/// (1.33, a float as in pbrt-v4), "g" (0); the boundary's roughness as the dielectric's.
+SubsurfaceMaterial Builder::subsurface_params(const ParamSet& ps, const std::string& what) {
+    SubsurfaceMaterial s;
+    auto constant = [&](Rgb c) {
+        m_s.spectrum_textures.push_back(ConstantSpectrumTexture{rgb_unbounded_spectrum(c)});
+        return int(m_s.spectrum_textures.size()) - 1;
+    };
+    auto check = [&](const char* name, bool ok, const char* must) {
+        if (const Param* p = ps.find(name); p && !ok)
+            throw_error(p->loc, "{}: \"{}\" must be {}", what, name, must);
+    };
+    s.g = ps.get_float("g", 0);
+    check("g", std::abs(s.g) < 1, "in (-1, 1)");
+    const std::string name = ps.get_string("name", "");
+    const Param* sigma_a = ps.find("sigma_a");
+    const Param* sigma_s = ps.find("sigma_s");
+    if (!name.empty()) {
+        Rgb sig_s, sig_a;
+        if (!measured_medium(name, sig_s, sig_a))
+            throw_error(ps.find("name")->loc,
+                        "{}: no measured medium is called \"{}\" (the names are pbrt-v4's, "
+                        "e.g. \"Skin1\", \"Wholemilk\", \"Ketchup\")",
+                        what, name);
+        if (s.g != 0)
+            warning(ps.find("g")->loc,
+                    fmt::format("{}: \"g\" is ignored with the named medium \"{}\" (its "
+                                "coefficients are reduced ones, for g = 0), as pbrt-v4 does",
+                                what, name));
+        s.g = 0;
+        s.sigma_a = constant(sig_a);
+        s.sigma_s = constant(sig_s);
+    } else if (sigma_a || sigma_s) {
+        if (!sigma_s)
+            throw_error(sigma_a->loc,
+                        "{}: \"sigma_a\" is given without \"sigma_s\" (give both "
+                        "or neither)",
+                        what);
+        if (!sigma_a)
+            throw_error(sigma_s->loc,
+                        "{}: \"sigma_s\" is given without \"sigma_a\" (give both "
+                        "or neither)",
+                        what);
+        s.sigma_a = spectrum_texture_param(ps, "sigma_a", 0, SpectrumKind::Unbounded);
+        s.sigma_s = spectrum_texture_param(ps, "sigma_s", 0, SpectrumKind::Unbounded);
+    } else if (ps.find("reflectance")) {
+        s.reflectance = spectrum_texture_param(ps, "reflectance", 0.5f);
+        s.mfp = spectrum_texture_param(ps, "mfp", 1, SpectrumKind::Unbounded);
+        if (const auto* c = std::get_if<ConstantSpectrumTexture>(&m_s.spectrum_textures[s.mfp])) {
+            bool positive = true;
+            for (int l = int(kLambdaMin); l <= int(kLambdaMax); ++l)
+                positive = positive && c->value(Float(l)) > 0;
+            check("mfp", positive, "positive");
+        }
+    } else {
+        s.sigma_a = constant(Rgb{.0011f, .0024f, .014f});
+        s.sigma_s = constant(Rgb{2.55f, 3.21f, 3.77f});
+    }
+    s.scale = ps.get_float("scale", 1);
+    check("scale", s.scale >= 0 && std::isfinite(s.scale), "finite and >= 0");
+    s.eta = ps.get_float("eta", 1.33f);
+    check("eta", s.eta > 0 && std::isfinite(s.eta), "finite and positive");
+    s.exit_c = normalized_fresnel_c(s.eta);
+    s.roughness = roughness_params(ps);
+    return s;
 }
 
 }  // namespace sr::build_detail

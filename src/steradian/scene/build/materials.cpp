@@ -190,6 +190,11 @@ Material Builder::make_material_model(const MaterialDesc& m) {
         w.energy_scale = energy_scale(w.kd, w.ks, m.loc, what);
         return w;
     }
+    if (m.type == "subsurface") {
+        SubsurfaceMaterial s = subsurface_params(ps, what);
+        ps.check_unused(what);
+        return s;
+    }
     if (m.type == "measured") {
         MeasuredMaterial mm;
         mm.brdf = measured_brdf(ps, m, what);
@@ -281,6 +286,14 @@ void Builder::build_materials() {
         }
     }
     resolve_mixes();
+    // A subsurface material's interior is a medium of the path (integrators/path/volpath.cpp):
+    // the scene takes the volumetric kernel even if it has no "medium".
+    for (const Material& m : m_s.materials)
+        if (std::holds_alternative<SubsurfaceMaterial>(m)) {
+            use_volumetric_kernel("subsurface materials",
+                                  "renders them as plain dielectrics (no subsurface scattering)");
+            break;
+        }
 }
 
 int Builder::resolve_material(const MaterialRef& r) {

@@ -312,26 +312,29 @@ void Builder::build_media() {
     }
     // "path" renders media too, with volpath's estimator: pbrt-v4's PathIntegrator ignores
     // them (with a warning), which leaves a physically wrong image (docs/pbrt-support.md).
-    m_s.integrator.volumetric = !m_s.media.empty();
-    if (m_s.integrator.volumetric) {
-        recorded([&] {
-            if (m_s.integrator.strategy != LightStrategy::Mis)
-                throw_unsupported(m_d.integrator.loc,
-                                  "\"strategy\" other than \"mis\" is not "
-                                  "supported yet in a scene with participating media");
-        });
-        for (const MeterDesc& md : m_d.meters)
-            recorded([&] {
-                throw_unsupported(md.loc,
-                                  "meters in a scene with participating media are not "
-                                  "supported yet");
-            });
-    }
-    if (!m_volpath && !m_s.media.empty())
-        warning(m_d.integrator.loc,
-                "the scene has participating media: steradian's \"path\" renders them (as "
-                "\"volpath\"), where pbrt-v4's ignores them");
+    if (!m_s.media.empty()) use_volumetric_kernel("participating media", "ignores them");
     m_s.camera_medium = medium_index(m_d.camera.medium, m_d.camera.loc);
+}
+
+void Builder::use_volumetric_kernel(const std::string& what, const std::string& pbrt_path) {
+    if (!m_volpath)
+        warning(m_d.integrator.loc,
+                fmt::format("the scene has {}: steradian's \"path\" renders them (as "
+                            "\"volpath\"), where pbrt-v4's {}",
+                            what, pbrt_path));
+    if (m_s.integrator.volumetric) return;  // the checks below are made
+    m_s.integrator.volumetric = true;
+    recorded([&] {
+        if (m_s.integrator.strategy != LightStrategy::Mis)
+            throw_unsupported(m_d.integrator.loc,
+                              "\"strategy\" other than \"mis\" is not supported yet in a "
+                              "scene with {}",
+                              what);
+    });
+    for (const MeterDesc& md : m_d.meters)
+        recorded([&] {
+            throw_unsupported(md.loc, "meters in a scene with {} are not supported yet", what);
+        });
 }
 
 int Builder::medium_index(const std::string& name, const SourceLoc& loc) const {
