@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
 # The whole test suite: a Release build with -Werror running every test (unit, stat, pbrt,
-# scene), then the unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer
-# (clang-14, the fuzz preset's build).
+# scene), then the unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer.
 # In CI (CI=true, set by .ci/run) it then fuzzes every input reader for 30 s each
 # (scripts/fuzz.sh; FUZZ_SECONDS overrides, 0 skips).
 # Usage: scripts/test.sh [--no-asan]
@@ -14,14 +13,10 @@ cmake --build --preset ci -j "$jobs"
 ctest --preset ci -j "$jobs"
 
 if [ "${1:-}" != "--no-asan" ]; then
-  # The unit tests under AddressSanitizer + UndefinedBehaviorSanitizer, in the fuzz preset's
-  # build (clang-14): the library it compiles once serves these tests and the fuzzers below,
-  # where a separate sanitizer build would compile it a third time (the gcc one stays as the
-  # `asan` preset).
-  cmake --preset fuzz
-  cmake --build --preset fuzz -j "$jobs" --target steradian_unit_tests steradian_fuzz_replay
+  cmake --preset asan
+  cmake --build --preset asan -j "$jobs" --target steradian_unit_tests steradian_fuzz_replay
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --preset fuzz -j "$jobs" -L unit
+    ctest --preset asan -j "$jobs" -L unit
 fi
 
 if [ "${CI:-}" = "true" ] && [ "${FUZZ_SECONDS:-30}" != 0 ]; then
