@@ -56,7 +56,8 @@ double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& s
             d = Frame::from_z(dir).to_world(sample_uniform_cone(u, std::cos(m.cone_half_angle)));
         PathLimits lim;
         lim.max_depth = m.max_depth < 0 ? -1 : m.max_depth;
-        SampledSpectrum L = path_li(scene, Ray{p, d, kInfinity}, lambda, sampler, counters, lim);
+        SampledSpectrum L =
+            path_li(scene, Ray{p, d, kInfinity}, lambda, sampler, counters, lim, m.medium);
         return weigh(m, L, lambda);
     }
     if (m.cell_average) {
@@ -72,7 +73,8 @@ double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& s
     Frame frame = Frame::from_z(dir);
     v.dpdu = frame.s;
     Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
-    SampledSpectrum L = path_lo(scene, v, receiver, lambda, sampler, counters, limits_of(m));
+    SampledSpectrum L =
+        path_lo(scene, v, receiver, lambda, sampler, counters, limits_of(m), m.medium);
     return kPi * weigh(m, L, lambda);
 }
 

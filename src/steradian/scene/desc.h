@@ -67,6 +67,9 @@ struct LightDesc : EntityDesc {
 /// are given in the coordinate system of the CTM at the directive.
 struct MeterDesc : EntityDesc {
     Transform world_from_meter;
+    /// The outside medium of the MediumInterface at the Meter directive ("": none): the
+    /// medium its measuring points are in, as a camera's is the one at Camera.
+    std::string medium;
 };
 
 /// One per AreaLightSource directive; every shape created while it is in effect refers to

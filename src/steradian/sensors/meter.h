@@ -43,6 +43,9 @@ struct Meter {
     /// Largest number of scattering vertices of a counted path; < 0: no limit (Russian
     /// roulette alone ends paths, so the reading has no depth cut-off bias).
     int max_depth = -1;
+    /// The medium the measuring points are in (Scene::media index, -1: none): the outside
+    /// medium of the MediumInterface in effect at the Meter directive.
+    int medium = -1;
 
     /// "lx", "W/m2", "cd/m2", "W/(m2 sr)" (scotopic values carry the same unit names).
     std::string unit() const;

@@ -275,13 +275,13 @@ private:
 }  // namespace
 
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
-                        PathCounters& counters, const PathLimits& limits) {
+                        PathCounters& counters, const PathLimits& limits, int medium) {
     if (scene.integrator.volumetric) {
-        // (The builder refuses meters, the other users of limits, in scenes with media.)
         SurfaceHit hit;
         ++counters.rays;
         bool found = scene.intersect(ray, hit);
-        return volpath_li(scene, ray, scene.camera_medium, found, hit, lambda, sampler, counters);
+        return volpath_li(scene, ray, medium == kCameraMedium ? scene.camera_medium : medium,
+                          found, hit, lambda, sampler, counters, limits);
     }
     PathState path(scene, lambda, sampler, counters, limits);
     path.trace(ray);
@@ -309,7 +309,9 @@ SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, Sur
 
 SampledSpectrum path_lo(const Scene& scene, const SurfaceHit& vertex, const Bsdf& bsdf,
                         SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
-                        const PathLimits& limits) {
+                        const PathLimits& limits, int medium) {
+    if (scene.integrator.volumetric)
+        return volpath_lo(scene, vertex, bsdf, medium, lambda, sampler, counters, limits);
     PathState path(scene, lambda, sampler, counters, limits);
     Ray ray;
     if (path.scatter(vertex, bsdf, ray)) path.trace(ray);

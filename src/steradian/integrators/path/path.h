@@ -35,11 +35,17 @@ struct PathLimits {
     int max_depth = kSceneDepth;
 };
 
+/// The medium a path starts in when the caller does not name one: the camera's
+/// (Scene::camera_medium).
+inline constexpr int kCameraMedium = -3;
+
 /// Radiance arriving along -ray.d at ray.o, at the wavelengths `lambda` (which a
 /// dispersive interface may reduce to the hero wavelength). Uses the scene's integrator
-/// settings (max depth, strategy).
+/// settings (max depth, strategy). In a scene with media, ray.o is in `medium` (a
+/// Scene::media index, -1: vacuum, or kCameraMedium).
 SampledSpectrum path_li(const Scene& scene, Ray ray, SampledWavelengths& lambda, Sampler& sampler,
-                        PathCounters& counters, const PathLimits& limits = {});
+                        PathCounters& counters, const PathLimits& limits = {},
+                        int medium = kCameraMedium);
 
 /// The sample dimensions a camera ray takes after the pixel dimensions (Sampler's
 /// kPixelDimensions): the lens sample, taken whether or not the camera has a lens, so that a
@@ -74,9 +80,10 @@ SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, Sur
 
 /// Radiance leaving `vertex` towards vertex.wo, scattered by `bsdf` there (a surface the
 /// scene does not contain, e.g. a meter's ideal Lambertian receiver): the path starts with
-/// that vertex's light and BSDF samples.
+/// that vertex's light and BSDF samples. In a scene with media, the vertex is in `medium`
+/// (a Scene::media index, -1: vacuum) on both sides.
 SampledSpectrum path_lo(const Scene& scene, const SurfaceHit& vertex, const Bsdf& bsdf,
                         SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
-                        const PathLimits& limits = {});
+                        const PathLimits& limits = {}, int medium = -1);
 
 }  // namespace sr

@@ -35,12 +35,19 @@ constexpr int kMaxWalkScatterings = 1024;
 class VolPath {
   public:
     VolPath(const Scene& scene, SampledWavelengths& lambda, Sampler& sampler,
-            PathCounters& counters)
+            PathCounters& counters, const PathLimits& limits)
         : m_scene(scene),
           m_lambda(lambda),
           m_sampler(sampler),
           m_counters(counters),
-          m_max_depth(scene.integrator.max_depth),
+          m_min_vertices(limits.min_vertices),
+          m_max_depth(limits.max_depth == PathLimits::kSceneDepth ? scene.integrator.max_depth
+                      : limits.max_depth < 0                      ? INT_MAX
+                                                                  : limits.max_depth),
+          // pbrt-v4 counts a medium's emission after k vertices only where k < maxdepth; a
+          // caller's own limit counts it where k <= max_depth, as a surface's emission.
+          m_emission_depth(limits.max_depth == PathLimits::kSceneDepth ? m_max_depth - 1
+                                                                       : m_max_depth),
           m_mctx(scene.material_context()) {}
 
     SampledSpectrum L{0};
@@ -115,36 +122,43 @@ class VolPath {
                 found = m_scene.intersect(ray, hit);
                 continue;
             }
-            if (m_depth++ >= m_max_depth) return;
-            if (bsdf->has_non_specular() && !m_scene.light_sampler.empty()) {
-                SurfaceVertex v{&hit, &*bsdf};
-                L += sample_light(v, medium);
-            } else {
-                m_sampler.skip_1d();
-                m_sampler.skip_2d();
-            }
-            m_prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
-            Float uc = m_sampler.get_1d();
-            Point2 u2 = m_sampler.get_2d();
-            auto bs = bsdf->sample(hit.wo, uc, u2);
-            if (!bs || !(bs->pdf_sa > 0)) return;
-            m_beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
-            m_r_l = m_r_u / bs->pdf_sa;
-            m_specular_bounce = bs->is_specular();
-            m_any_non_specular |= !m_specular_bounce;
-            if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
-            const int outside = medium;
-            medium = medium_after(hit, bs->wi, medium);
-            if (bs->is_transmission())
-                if (const SubsurfaceMaterial* ss =
-                        subsurface_at(m_scene.materials[hit.material], m_mctx, hit))
-                    medium = enter_walk(*ss, hit, outside);
-            ray = spawn_ray(hit, bs->wi);
-            if (m_beta.is_zero()) return;
-            if (!russian_roulette()) return;
+            if (!scatter(hit, *bsdf, medium, ray)) return;
             ++m_counters.rays;
             found = m_scene.intersect(ray, hit);
         }
+    }
+
+    /// A surface scattering vertex: light sampling and BSDF sampling at `hit` (in `medium`
+    /// on the side the path arrived from). False: the path ends; else `ray` is the next
+    /// segment, which starts in the updated `medium`.
+    bool scatter(const SurfaceHit& hit, const Bsdf& bsdf, int& medium, Ray& ray) {
+        if (m_depth++ >= m_max_depth) return false;
+        if (bsdf.has_non_specular() && !m_scene.light_sampler.empty()) {
+            SampledSpectrum c = sample_light(SurfaceVertex{&hit, &bsdf}, medium);
+            if (counted()) L += c;
+        } else {
+            m_sampler.skip_1d();
+            m_sampler.skip_2d();
+        }
+        m_prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
+        Float uc = m_sampler.get_1d();
+        Point2 u2 = m_sampler.get_2d();
+        auto bs = bsdf.sample(hit.wo, uc, u2);
+        if (!bs || !(bs->pdf_sa > 0)) return false;
+        m_beta *= bs->f * (absdot(bs->wi, hit.ns) / bs->pdf_sa);
+        m_r_l = m_r_u / bs->pdf_sa;
+        m_specular_bounce = bs->is_specular();
+        m_any_non_specular |= !m_specular_bounce;
+        if (bs->is_transmission()) m_eta_scale *= sqr(bs->eta);
+        const int outside = medium;
+        medium = medium_after(hit, bs->wi, medium);
+        if (bs->is_transmission() && hit.material >= 0)
+            if (const SubsurfaceMaterial* ss =
+                    subsurface_at(m_scene.materials[hit.material], m_mctx, hit))
+                medium = enter_walk(*ss, hit, outside);
+        ray = spawn_ray(hit, bs->wi);
+        if (m_beta.is_zero()) return false;
+        return russian_roulette();
     }
 
   private:
@@ -157,6 +171,7 @@ class VolPath {
     /// The medium a ray leaving `hit` in direction w is in: the MediumInterface side w points
     /// to if the surface is a transition, else the medium the path was in.
     int medium_after(const SurfaceHit& hit, Vec3 w, int current) const {
+        if (hit.shape < 0) return current;  // a vertex of no shape (a meter's receiver)
         const ShapeEntry& e = m_scene.shapes[size_t(hit.shape)];
         if (!e.medium_transition()) return current;
         return dot(w, hit.ng) > 0 ? e.medium_outside : e.medium_inside;
@@ -172,7 +187,7 @@ class VolPath {
             return false;
         }
         // Emission of the medium (absorption-weighted), at every tentative collision.
-        if (m_depth < m_max_depth && !mp.le.is_zero()) {
+        if (m_depth <= m_emission_depth && counted() && !mp.le.is_zero()) {
             Float pdf = sigma_maj[0] * t_maj[0];
             SampledSpectrum betap = m_beta * t_maj / pdf;
             SampledSpectrum r_e = m_r_u * sigma_maj * t_maj / pdf;
@@ -203,7 +218,10 @@ class VolPath {
             m_medium_wo = wo;
             // No light sampling inside a subsurface walk: a shadow ray could not cross its
             // dielectric boundary (the exit vertex samples the lights instead).
-            if (!walk) L += sample_light(SurfaceVertex{}, m_current_medium);
+            if (!walk) {
+                SampledSpectrum c = sample_light(SurfaceVertex{}, m_current_medium);
+                if (counted()) L += c;
+            }
             PhaseSample ps = sample_hg(wo, mp.g, m_sampler.get_2d());
             if (!(ps.p > 0)) {
                 terminated = true;
@@ -302,7 +320,8 @@ class VolPath {
         hit.wo = Vec3(n.x, n.y, n.z);
         const Bsdf bsdf(Frame::from_z(n), hit.ng, NormalizedFresnelLobe{m_walk.eta, m_walk.exit_c});
         if (!m_scene.light_sampler.empty()) {
-            L += sample_light(SurfaceVertex{&hit, &bsdf}, m_walk.outside);
+            SampledSpectrum c = sample_light(SurfaceVertex{&hit, &bsdf}, m_walk.outside);
+            if (counted()) L += c;
         } else {
             m_sampler.skip_1d();
             m_sampler.skip_2d();
@@ -327,6 +346,10 @@ class VolPath {
         return russian_roulette();
     }
 
+    /// A contribution after m_depth scattering vertices belongs to the estimate (the
+    /// caller's PathLimits::min_vertices).
+    bool counted() const { return m_depth >= m_min_vertices; }
+
     bool russian_roulette() {
         SampledSpectrum rr = m_beta * m_eta_scale / m_r_u.average();
         Float u = m_sampler.get_1d();
@@ -340,6 +363,7 @@ class VolPath {
     }
 
     void escaped(const Ray& ray) {
+        if (!counted()) return;
         const Vec3 d = normalize(ray.d);
         const bool mis = !(m_depth == 0 || m_specular_bounce);
         for (int li : m_scene.infinite_lights) {
@@ -358,6 +382,7 @@ class VolPath {
     }
 
     void emitted(const SurfaceHit& hit) {
+        if (!counted()) return;
         const auto& area = std::get<DiffuseAreaLight>(m_scene.lights[size_t(hit.light)]);
         if (area.alpha && area.masked(hit.p)) return;
         SampledSpectrum le = area.l(hit.ng, hit.wo, m_lambda);
@@ -410,7 +435,11 @@ class VolPath {
                                      : Ray{m_medium_p, ls->p_light - m_medium_p, 1 - Float(1e-4)};
         }
         SampledSpectrum r_l(1), r_u(1);
-        SampledSpectrum tr = transmittance(shadow, shadow_medium, !ls->at_infinity, r_l, r_u);
+        // The ratio-tracking stream is keyed by the light sample's random numbers as well as the
+        // ray: two samples of one shadow ray (a meter's fixed point and a point light) must not
+        // share their collisions.
+        SampledSpectrum tr = transmittance(shadow, shadow_medium, !ls->at_infinity, r_l, r_u,
+                                           hash(u_light, u2.x, u2.y));
         if (tr.is_zero()) return SampledSpectrum(0);
         r_l *= m_r_u * (pmf * ls->pdf_sa);
         r_u *= m_r_u * scatter_pdf;
@@ -422,10 +451,11 @@ class VolPath {
     /// material blocks it, else the product over its segments of ratio-tracking estimates
     /// (with the rescaled probabilities r_l, r_u of the segments' null collisions).
     SampledSpectrum transmittance(Ray ray, int medium, bool to_point, SampledSpectrum& r_l,
-                                  SampledSpectrum& r_u) {
+                                  SampledSpectrum& r_u, uint64_t key) {
         const Point3 end = ray.o + ray.d;  // the target of a ray to a point (t_max < 1)
         SampledSpectrum t_ray(1);
-        Pcg32 rng = tracking_rng(hash(ray.o.x, ray.o.y, ray.o.z), hash(ray.d.x, ray.d.y, ray.d.z));
+        Pcg32 rng = tracking_rng(hash(ray.o.x, ray.o.y, ray.o.z, key),
+                                 hash(ray.d.x, ray.d.y, ray.d.z));
         SurfaceHit h;
         for (int crossings = 0; crossings <= 256; ++crossings) {
             ++m_counters.rays;
@@ -471,7 +501,9 @@ class VolPath {
     SampledWavelengths& m_lambda;
     Sampler& m_sampler;
     PathCounters& m_counters;
+    const int m_min_vertices;
     const int m_max_depth;
+    const int m_emission_depth;  ///< a medium's emission after k vertices counts if k <= this
     const MaterialContext m_mctx;
 
     SampledSpectrum m_beta{1}, m_r_u{1}, m_r_l{1};
@@ -492,9 +524,23 @@ class VolPath {
 
 SampledSpectrum volpath_li(const Scene& scene, const Ray& ray, int medium, bool found,
                            SurfaceHit& hit, SampledWavelengths& lambda, Sampler& sampler,
-                           PathCounters& counters) {
-    VolPath path(scene, lambda, sampler, counters);
+                           PathCounters& counters, const PathLimits& limits) {
+    VolPath path(scene, lambda, sampler, counters, limits);
     path.trace(ray, medium, found, hit);
+    return path.L;
+}
+
+SampledSpectrum volpath_lo(const Scene& scene, const SurfaceHit& vertex, const Bsdf& bsdf,
+                           int medium, SampledWavelengths& lambda, Sampler& sampler,
+                           PathCounters& counters, const PathLimits& limits) {
+    VolPath path(scene, lambda, sampler, counters, limits);
+    Ray ray;
+    if (path.scatter(vertex, bsdf, medium, ray)) {
+        SurfaceHit hit;
+        ++counters.rays;
+        const bool found = scene.intersect(ray, hit);
+        path.trace(ray, medium, found, hit);
+    }
     return path.L;
 }
 

@@ -67,6 +67,8 @@ Scene build_scene(const SceneDesc& desc, const BuildOptions& options) {
         b.fail_if_recorded();
         s.finalize_lights();
         s.meters = build_meters(desc.meters);
+        for (size_t i = 0; i < s.meters.size(); ++i)
+            s.meters[i].medium = b.medium_index(desc.meters[i].medium, desc.meters[i].loc);
         return s;
     } catch (const Error& e) {
         if (b.failed()) throw;  // already the whole list

@@ -191,12 +191,12 @@ class Builder {
     void build_media();
     /// Renders the scene with the volumetric kernel (integrators/path/volpath.cpp) because it
     /// has `what` ("participating media", "subsurface materials"), with "path" too (warning
-    /// that pbrt-v4's `pbrt_path`); records as unsupported a strategy other than MIS and meters.
+    /// that pbrt-v4's `pbrt_path`); records as unsupported a strategy other than MIS.
     void use_volumetric_kernel(const std::string& what, const std::string& pbrt_path);
-    /// The index of the named medium ("" = vacuum: -1); an error at `loc` if undefined.
-    int medium_index(const std::string& name, const SourceLoc& loc) const;
 
   public:
+    /// The index of the named medium ("" = vacuum: -1); an error at `loc` if undefined.
+    int medium_index(const std::string& name, const SourceLoc& loc) const;
     // ---- lights (lights.cpp) -----------------------------------------------------------
     void build_lights(Scene& s);
 

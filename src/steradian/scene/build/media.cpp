@@ -331,10 +331,6 @@ void Builder::use_volumetric_kernel(const std::string& what, const std::string& 
                               "scene with {}",
                               what);
     });
-    for (const MeterDesc& md : m_d.meters)
-        recorded([&] {
-            throw_unsupported(md.loc, "meters in a scene with {} are not supported yet", what);
-        });
 }
 
 int Builder::medium_index(const std::string& name, const SourceLoc& loc) const {

@@ -260,7 +260,11 @@ Param Parser::parse_param(Stream& s, const Token& decl) {
                 throw_error(p.loc, "{} needs a multiple of 3 values, got {}", what(), n);
             break;
         case ParamType::Rgb:
-            if (n != 3) throw_error(p.loc, "{} needs exactly 3 values, got {}", what(), n);
+            // One colour for a spectrum parameter (the builder checks that), a list of them
+            // for an rgbgrid medium's grids (pbrt-v4's GetRGBArray).
+            if (n == 0 || n % 3 != 0)
+                throw_error(p.loc, "{} needs 3 values (or a multiple of 3 for a grid), got {}",
+                            what(), n);
             break;
         case ParamType::Blackbody:
             if (n != 1)

@@ -540,6 +540,7 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                 m.params = make_params(std::move(params), nullptr);
                 m.loc = loc;
                 m.world_from_meter = m_gs.ctm;
+                m.medium = m_gs.media.outside;
                 if (m_object) throw_error(loc, "Meter is not allowed inside ObjectBegin");
                 m_scene.meters.push_back(std::move(m));
                 break;

@@ -635,7 +635,8 @@ TEST_F(PbrtParser, ErrorIntegerGivenFloat) {
 
 TEST_F(PbrtParser, ErrorRgbNeedsThreeValues) {
     expect_error("WorldBegin\nMaterial \"diffuse\"\n  \"rgb reflectance\" [ 0.5 0.5 ]",
-                 "parameter \"rgb reflectance\" needs exactly 3 values, got 2", 3, 3);
+                 "parameter \"rgb reflectance\" needs 3 values (or a multiple of 3 for a grid), got 2",
+                 3, 3);
 }
 
 TEST_F(PbrtParser, ErrorBlackbodyNeedsOneValue) {
