@@ -1,6 +1,7 @@
 #pragma once
-/// Chooses a light for next-event estimation: by emitted power (V(lambda)-weighted), or
-/// uniformly. pmf() is needed by MIS when a BSDF-sampled ray hits an emitter.
+/// Chooses a light for next-event estimation: by emitted power (V(lambda)-weighted),
+/// uniformly, or with pbrt-v4's "bvh" split between lights at infinity and the others.
+/// pmf() is needed by MIS when a BSDF-sampled ray hits an emitter.
 #include <vector>
 
 #include "steradian/lights/light.h"
@@ -8,12 +9,26 @@
 
 namespace sr {
 
+enum class LightSamplerKind {
+    /// Every light with the same probability (pbrt-v4's "uniform").
+    Uniform,
+    /// Probability proportional to light_phi_y (pbrt-v4's "power"): lights at infinity count
+    /// with the power they send through the scene's bounding sphere.
+    Power,
+    /// pbrt-v4's "bvh" (its default) without the spatial part: each light at infinity
+    /// (infinite, environment, distant) has probability 1 / (n_infinite + 1) when the scene
+    /// has other lights (pbrt-v4's BVHLightSampler gives them that share), and those other
+    /// lights share the rest by power. pbrt-v4 then picks among them by each light's
+    /// importance at the shading point; we pick by power alone (docs/pbrt-support.md). Unlike
+    /// "power", a small lamp is not drowned by a sky whose power grows with the scene's size.
+    InfiniteShare,
+};
+
 class LightSampler {
 public:
     LightSampler() = default;
-    /// by_power: pmf proportional to light_phi_y (lights of zero power never chosen);
-    /// otherwise uniform.
-    void build(const std::vector<Light>& lights, bool by_power);
+    /// Lights of zero power are never chosen by Power and InfiniteShare.
+    void build(const std::vector<Light>& lights, LightSamplerKind kind);
     bool empty() const { return m_alias.size() == 0; }
     /// Index of the chosen light (or -1 if there are none) and its probability.
     int sample(Float u, Float& pmf) const {

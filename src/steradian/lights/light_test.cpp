@@ -1,4 +1,5 @@
 #include "steradian/lights/light.h"
+#include "steradian/lights/light_sampler.h"
 
 #include <gtest/gtest.h>
 
@@ -358,6 +359,40 @@ TEST(Light, VariantDispatchMatchesTheAlternative) {
     ASSERT_TRUE(a.has_value());
     EXPECT_FLOAT_EQ(a->L[0], 0.25f);
     EXPECT_FLOAT_EQ(light_phi_y(l), pl.phi_y());
+}
+
+// pbrt-v4's BVHLightSampler gives lights at infinity (infinite, distant) probability
+// 1 / (n_infinite + 1) each when there are bounded lights; ours ("bvh") then shares the rest
+// among the bounded lights by power: point lights of intensity 1 and 3 (power 4 pi I).
+TEST(LightSampler, BvhGivesEachLightAtInfinityItsShare) {
+    auto point = [](Float i) {
+        PointLight pl;
+        pl.intensity = ConstantSpectrum{1};
+        pl.scale = i;
+        return Light(pl);
+    };
+    UniformInfiniteLight sky;
+    sky.radiance = ConstantSpectrum{1};
+    sky.scene_radius = 1000;  // a sky whose power dwarfs the lamps'
+    DistantLight sun;
+    sun.w_light = {0, 0, 1};
+    sun.radiance = ConstantSpectrum{1};
+    std::vector<Light> lights{point(1), Light(sky), point(3), Light(sun)};
+    LightSampler s;
+    s.build(lights, LightSamplerKind::InfiniteShare);
+    EXPECT_NEAR(s.pmf(1), 1.0 / 3, 1e-6);
+    EXPECT_NEAR(s.pmf(3), 1.0 / 3, 1e-6);
+    EXPECT_NEAR(s.pmf(0), 1.0 / 3 * 1 / 4, 1e-6);
+    EXPECT_NEAR(s.pmf(2), 1.0 / 3 * 3 / 4, 1e-6);
+    // "power": the sky takes nearly everything; "uniform": a quarter each.
+    s.build(lights, LightSamplerKind::Power);
+    EXPECT_GT(s.pmf(1), 0.99);
+    s.build(lights, LightSamplerKind::Uniform);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(s.pmf(i), 0.25, 1e-6);
+    // Only lights at infinity: they share everything equally.
+    s.build({Light(sky), Light(sun)}, LightSamplerKind::InfiniteShare);
+    EXPECT_NEAR(s.pmf(0), 0.5, 1e-6);
+    EXPECT_NEAR(s.pmf(1), 0.5, 1e-6);
 }
 
 }  // namespace

@@ -17,7 +17,11 @@ void Scene::finalize_geometry() {
     bounds = m_accel->bounds();
 }
 
-void Scene::finalize_lights() { light_sampler.build(lights, integrator.light_sampler == "power"); }
+void Scene::finalize_lights() {
+    light_sampler.build(lights, integrator.light_sampler == "power"     ? LightSamplerKind::Power
+                                : integrator.light_sampler == "uniform" ? LightSamplerKind::Uniform
+                                                                        : LightSamplerKind::InfiniteShare);
+}
 
 bool Scene::intersect(const Ray& ray, SurfaceHit& h) const { return m_accel->intersect(ray, h); }
 

@@ -44,7 +44,7 @@ struct IntegratorSettings {
     int max_depth = 5;
     LightStrategy strategy = LightStrategy::Mis;
     bool regularize = false;
-    std::string light_sampler = "power";
+    std::string light_sampler = "bvh";  ///< pbrt-v4's names: "bvh" (its default), "power", "uniform"
     /// "volpath" in a scene with media: paths are traced through them (integrators/path/
     /// volpath.cpp); otherwise media are ignored.
     bool volumetric = false;

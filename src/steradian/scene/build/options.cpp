@@ -317,7 +317,7 @@ void Builder::build_integrator(const EntityDesc& e) {
     if (ls == "uniform")
         is.light_sampler = "uniform";
     else if (ls == "power" || ls == "bvh")
-        is.light_sampler = "power";
+        is.light_sampler = ls;
     else
         throw_error(e.loc, "unknown light sampler \"{}\"", ls);
     ps.check_unused(fmt::format("Integrator \"{}\"", type));
