@@ -52,6 +52,31 @@ LightSource "infinite" "spectrum L" [ 300 1 900 1 ]
                        spp, seed, integrator);
 }
 
+// The same slab with eta = 2.5 (F0 = ((eta - 1) / (eta + 1))^2 = 0.184 at normal incidence):
+// the camera ray is reflected with F0 (and sees the environment) or refracted straight in;
+// inside, each crossing survives with e = exp(-sigma_a d), and each face reached reflects the
+// walk back with F0 or lets it out (into the environment, whatever the exit direction). The
+// pixel sees F0 + (1 - F0)^2 e (1 + F0 e + (F0 e)^2 + ...) = F0 + (1 - F0)^2 e / (1 - F0 e)
+// (without the internal reflections it would be F0 + (1 - F0) e, 6 % more here).
+TEST(Subsurface, InternalReflectionsOfAnAbsorbingSlab) {
+    const double sigma_a = 0.5, d = 1.0, eta = 2.5;
+    std::string scene = ortho_header(64, "volpath") + fmt::format(R"(
+Material "subsurface" "spectrum sigma_a" {2} "spectrum sigma_s" {3} "float eta" [ {4} ]
+Shape "trianglemesh" "point3 P" [ -3 -3 {0}  3 -3 {0}  3 3 {0}  -3 3 {0}
+    -3 -3 {1}  3 -3 {1}  3 3 {1}  -3 3 {1} ]
+  "integer indices" [ 0 2 1  0 3 2  4 5 6  4 6 7  0 1 5  0 5 4  1 2 6  1 6 5  2 3 7  2 7 6  3 0 4  3 4 7 ]
+)",
+                                                              -d / 2, d / 2, flat(sigma_a),
+                                                              flat(0), eta);
+    Rendered r = render_string(scene);
+    MeanSe m = mean_se(r.y);
+    const double f0 = std::pow((eta - 1) / (eta + 1), 2), e = std::exp(-sigma_a * d);
+    const double expected = f0 + (1 - f0) * (1 - f0) * e / (1 - f0 * e);
+    EXPECT_NEAR(m.mean, expected, kZ * m.se) << "se " << m.se;
+    EXPECT_LT(kZ * m.se, 0.5 * (f0 + (1 - f0) * e - expected));  // tells the two apart
+    EXPECT_EQ(r.stats.nonfinite, 0u);
+}
+
 // A purely absorbing, index-matched (eta = 1) subsurface slab of thickness d seen head-on
 // under a uniform environment of radiance 1: the boundary passes the camera ray straight in,
 // the walk reaches the back face with probability exp(-sigma_a d) (Beer-Lambert: the

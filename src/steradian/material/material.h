@@ -164,6 +164,7 @@ struct SubsurfaceMaterial : MaterialCommon {
     Float eta = 1.33f;               ///< relative IOR of the boundary
     Float g = 0;                     ///< Henyey-Greenstein asymmetry of the interior
     Float exit_c = 1;                ///< normalized_fresnel_c(eta), computed once
+    Float internal_r = 0;            ///< diffuse_internal_reflectance(eta), computed once
     Roughness roughness;             ///< of the boundary
 };
 

@@ -2,8 +2,9 @@
 
 namespace sr {
 
-Float subsurface_albedo(Float reflectance) {
-    const double a = reflectance;
+Float subsurface_albedo(Float reflectance, Float internal_r) {
+    double a = reflectance;
+    if (internal_r > 0 && a > 0 && a < 1) a = a / (1 - internal_r + internal_r * a);
     if (!(a > 0)) return 0;
     if (a >= 1) return 1;
     const double r = 4.09712 + 4.20863 * a - std::sqrt(9.59217 + 41.6808 * a + 17.7126 * a * a);
@@ -28,7 +29,7 @@ SubsurfaceCoefficients subsurface_coefficients(const SubsurfaceMaterial& m,
     const SampledSpectrum r = evaluate(tex[m.reflectance], h, lambda);
     const SampledSpectrum mfp = evaluate(tex[m.mfp], h, lambda) * m.scale;
     for (int i = 0; i < kSpectrumSamples; ++i) {
-        const Float alpha = subsurface_albedo(clamp(r[i], Float(0), Float(1)));
+        const Float alpha = subsurface_albedo(clamp(r[i], Float(0), Float(1)), m.internal_r);
         const Float sigma_t = 1 / (mfp[i] > Float(1e-30) ? mfp[i] : Float(1e-30));
         c.sigma_s[i] = alpha * sigma_t;
         c.sigma_a[i] = (1 - alpha) * sigma_t;

@@ -19,7 +19,15 @@ namespace sr {
 /// our measurement; the talk states no error bound) the reflectance of the fitted alpha is
 /// within 0.003 of A over A in [0.05, 0.99]. Monotone; A <= 0 gives 0 and A >= 1 gives 1 (the
 /// formula itself gives 6e-6 at A = 0).
-Float subsurface_albedo(Float reflectance);
+///
+/// With a boundary of relative IOR eta != 1, the walk's light is reflected back in at the
+/// boundary (diffuse internal reflectance r_i = diffuse_internal_reflectance(eta)), so the
+/// interior must be brighter for the object to reflect A: taking the light that returns to
+/// the boundary as diffuse, the interior's A_0 and the object's A are related by the adding
+/// formula A = A_0 (1 - r_i) / (1 - r_i A_0), i.e. A_0 = A / (1 - r_i + r_i A), and
+/// alpha = subsurface_albedo(A_0, 0). (The adding formula is the approximation here; the walk
+/// itself is exact.)
+Float subsurface_albedo(Float reflectance, Float internal_r = 0);
 
 /// Absorption and scattering coefficients (per unit length of the scene) at the path's
 /// wavelengths.
@@ -31,7 +39,7 @@ struct SubsurfaceCoefficients {
 /// evaluates its textures: scale * sigma_a and scale * sigma_s (clamped to >= 0), or, with a
 /// reflectance A (clamped to [0, 1]) and a mean free path (times scale, as pbrt-v4 scales it),
 /// sigma_t = 1 / mfp, sigma_s = alpha sigma_t, sigma_a = (1 - alpha) sigma_t per wavelength,
-/// alpha = subsurface_albedo(A). (pbrt-v4 inverts the reflectance of its photon-beam-diffusion
+/// alpha = subsurface_albedo(A, m.internal_r). (pbrt-v4 inverts the reflectance of its photon-beam-diffusion
 /// table instead; see docs/pbrt-support.md.) A mean free path <= 0 is read as 1e-30.
 SubsurfaceCoefficients subsurface_coefficients(const SubsurfaceMaterial& m,
                                                const MaterialContext& ctx, const SurfaceHit& h,

@@ -272,6 +272,7 @@ SubsurfaceMaterial Builder::subsurface_params(const ParamSet& ps, const std::str
     s.eta = ps.get_float("eta", 1.33f);
     check("eta", s.eta > 0 && std::isfinite(s.eta), "finite and positive");
     s.exit_c = normalized_fresnel_c(s.eta);
+    s.internal_r = diffuse_internal_reflectance(s.eta);
     s.roughness = roughness_params(ps);
     return s;
 }
