@@ -84,7 +84,14 @@ public:
         const Light& light = m_scene.lights[size_t(l)];
         const SurfaceHit v = point_vertex(x, n);
         const LightSampleContext ctx{v.p, v.p_error, v.ng};
-        auto ls = sample_li(light, ctx, u, m_groups[first_group]);
+        // The first group whose sample exists (a spectrum may be zero in some bands, and a
+        // light returns no sample then) gives the geometry and the one shadow ray.
+        std::optional<LightLiSample> ls;
+        int g0 = first_group;
+        for (; g0 < first_group + groups; ++g0) {
+            ls = sample_li(light, ctx, u, m_groups[size_t(g0)]);
+            if (ls && ls->pdf_sa > 0) break;
+        }
         if (!ls || !(ls->pdf_sa > 0)) return 0;
         const double cosv = double(dot(ls->wi, v.ng));
         if (!(cosv > 0)) return 0;
@@ -93,10 +100,10 @@ public:
                                      : spawn_ray_between(v, ls->p_light, ls->p_error, ls->n_light);
         if (m_scene.occluded(shadow)) return 1;
         const double f = w * cosv / double(ls->pdf_sa);
-        for (int g = first_group; g < first_group + groups; ++g) {
+        for (int g = g0; g < first_group + groups; ++g) {
             SampledSpectrum L = ls->L;
-            if (g != first_group) {
-                auto lg = sample_li(light, ctx, u, m_groups[g]);
+            if (g != g0) {
+                auto lg = sample_li(light, ctx, u, m_groups[size_t(g)]);
                 L = lg ? lg->L : SampledSpectrum(0);
             }
             for (int i = 0; i < kSpectrumSamples; ++i)
@@ -264,11 +271,18 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                 h.prim = uint32_t(t);
                 h.material = e.material;
                 h.wo = h.ns;
-                SampledWavelengths lam = band_group(kGroups / 2);
-                if (is_lambert(make_bsdf(scene.materials[size_t(e.material)], mctx, h, lam)))
+                bool lambert = true, black = true;
+                for (int g = 0; g < kGroups && lambert; ++g) {
+                    SampledWavelengths lam = band_group(g);
+                    auto b = make_bsdf(scene.materials[size_t(e.material)], mctx, h, lam);
+                    lambert = is_lambert(b);
+                    if (lambert) black = black && std::get<LambertLobe>(b->lobe()).r.is_zero();
+                }
+                if (lambert)
                     c.root = 0;  // diffuse: meshed below
                 else
                     ++non_diffuse;
+                c.black = lambert && black;
             }
             S.m_coarse.push_back(c);
         }
@@ -296,7 +310,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     {
         std::vector<size_t> diffuse;
         for (size_t i = 0; i < nc; ++i)
-            if (S.m_coarse[i].root >= 0) diffuse.push_back(i);
+            if (S.m_coarse[i].root >= 0 && !S.m_coarse[i].black) diffuse.push_back(i);
         arena.execute([&] {
             tbb::parallel_for(size_t(0), diffuse.size(), [&](size_t a) {
                 const auto& c = S.m_coarse[diffuse[a]];

@@ -82,6 +82,7 @@ private:
         radiosity::DVec3 p0, e1, e2;  ///< p0 and the edges to p1 and p2
         radiosity::DVec3 n;
         int root = -1;
+        bool black = false;  ///< reflects nothing (its sides are not in the system)
     };
     std::vector<int> m_shape_first;  ///< per scene shape: its first coarse triangle, or -1
     std::vector<Coarse> m_coarse;
