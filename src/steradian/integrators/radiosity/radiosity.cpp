@@ -12,6 +12,7 @@
 #include <tbb/task_arena.h>
 
 #include "steradian/bsdf/bsdf.h"
+#include "steradian/core/error.h"
 #include "steradian/core/output_file.h"
 #include "steradian/material/material.h"
 #include "steradian/sampling/hash.h"
@@ -217,6 +218,9 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                                                   int threads) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
+    if (!scene.media.empty())
+        throw Error("the radiosity method does not support participating media (use the path "
+                    "tracer: Integrator \"volpath\", measure --method path)");
     auto sol = std::make_unique<RadiositySolution>();
     RadiositySolution& S = *sol;
     RadiosityStats& st = S.m_stats;
