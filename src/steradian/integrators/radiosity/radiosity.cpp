@@ -297,12 +297,17 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
 
     // ---- which sides can receive light --------------------------------------------------------
     // A side is active if a light or a point of another diffuse triangle lies strictly in
-    // front of it (infinite, distant, spot and goniometric lights count as everywhere).
+    // front of it (infinite and distant lights, and area lights on spheres and disks, count
+    // as everywhere).
     std::vector<DVec3> light_points;
     bool light_everywhere = false;
     for (const Light& l : scene.lights) {
         if (const auto* pl = std::get_if<PointLight>(&l))
             light_points.push_back(DVec3(pl->p));
+        else if (const auto* sl = std::get_if<SpotLight>(&l))
+            light_points.push_back(DVec3(sl->p));
+        else if (const auto* gl = std::get_if<GoniometricLight>(&l))
+            light_points.push_back(DVec3(gl->p));
         else if (const auto* al = std::get_if<DiffuseAreaLight>(&l); al && al->triangle)
             for (Point3 q : {al->triangle->p0, al->triangle->p1, al->triangle->p2})
                 light_points.push_back(DVec3(q));
