@@ -230,6 +230,8 @@ sr::Checkpoint measure_checkpoint(const MeasureArgs& a, const sr::MeasureOptions
 }
 
 int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
+    if (a.pilot_samples & (a.pilot_samples - 1))
+        throw sr::Error(fmt::format("--pilot-samples {} is not a power of two", a.pilot_samples));
     std::optional<sr::Checkpoint> resume;
     if (!a.resume.empty()) {
         resume = sr::Checkpoint::load(a.resume);
@@ -282,8 +284,6 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
         radiosity = solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet);
     sr::MeasureOptions mo;
     mo.radiosity = radiosity.get();
-    if (a.pilot_samples & (a.pilot_samples - 1))
-        throw sr::Error(fmt::format("--pilot-samples {} is not a power of two", a.pilot_samples));
     mo.replicas = a.replicas;
     mo.first_samples = a.pilot_samples;
     mo.rel_error = a.rel_error;
