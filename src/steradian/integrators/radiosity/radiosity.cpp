@@ -139,19 +139,19 @@ bool radiosity_models_exactly(const Scene& scene, std::string* why) {
     };
     if (!scene.media.empty()) return no("the scene has participating media");
     if (!scene.instances.empty()) return no("the scene has object instances");
-    MaterialContext mctx = scene.material_context();
     for (int si : scene.top_level_shapes) {
         const ShapeEntry& e = scene.shapes[size_t(si)];
         if (e.material < 0) continue;
-        const auto* mesh = std::get_if<TriangleMesh>(&e.geometry);
-        if (!mesh) return no(fmt::format("shape {} is not a triangle mesh", si));
+        if (!std::holds_alternative<TriangleMesh>(e.geometry))
+            return no(fmt::format("shape {} is not a triangle mesh", si));
         if (e.alpha) return no(fmt::format("shape {} has an alpha mask", si));
         const Material& mat = scene.materials[size_t(e.material)];
         if (!std::holds_alternative<DiffuseMaterial>(mat))
             return no(fmt::format("shape {} has a material other than \"diffuse\"", si));
-        (void)mesh;
+        const auto& d = std::get<DiffuseMaterial>(mat);
+        if (d.normal_map || d.displacement >= 0)
+            return no(fmt::format("shape {} has a normal or bump map", si));
     }
-    (void)mctx;
     return true;
 }
 
