@@ -6,6 +6,7 @@
 // standard error required to be well inside them; fixed seeds (deterministic).
 #include <gtest/gtest.h>
 
+#include "steradian/core/error.h"
 #include "steradian/integrators/measure.h"
 #include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/scene/build.h"
@@ -107,6 +108,21 @@ TEST(Radiosity, SolutionDoesNotDependOnTheThreadCount) {
     for (size_t u = 0; u < a->stats().unknowns; ++u)
         for (int k = 0; k < radiosity::kBands; ++k)
             ASSERT_EQ(a->band(int(u), k), b->band(int(u), k));
+}
+
+TEST(Radiosity, RefusesAMeshBeyondItsPatchBudget) {
+    // The cube's 12 lit triangle sides need 12 patches at least.
+    Scene s = load("case-5.8-rho0.5.pbrt");
+    RadiosityParams prm;
+    prm.max_patches = 8;
+    try {
+        solve_radiosity(s, prm, 1);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("at least 12 patches"), std::string::npos) << e.what();
+    }
+    prm.max_patches = 12;
+    EXPECT_EQ(solve_radiosity(s, prm, 1)->stats().unknowns, 12u);
 }
 
 TEST(Radiosity, AutoChoosesRadiosityOnlyForDiffuseScenes) {

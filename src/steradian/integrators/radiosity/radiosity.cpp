@@ -139,6 +139,13 @@ bool radiosity_models_exactly(const Scene& scene, std::string* why) {
     };
     if (!scene.media.empty()) return no("the scene has participating media");
     if (!scene.instances.empty()) return no("the scene has object instances");
+    size_t triangles = 0;
+    for (int si : scene.top_level_shapes)
+        if (const auto* m = std::get_if<TriangleMesh>(&scene.shapes[size_t(si)].geometry))
+            triangles += m->num_triangles();
+    if (triangles > size_t(scene.integrator.radiosity.max_patches))
+        return no(fmt::format("{} triangles, more than the radiosity mesh's {} patches",
+                              triangles, scene.integrator.radiosity.max_patches));
     for (int si : scene.top_level_shapes) {
         const ShapeEntry& e = scene.shapes[size_t(si)];
         if (e.material < 0) continue;
@@ -365,11 +372,28 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                 n += std::pow(4.0, level_for(i, h)) * double(active[i][0] + active[i][1]);
         return n;
     };
+    {
+        // At least one patch per side: a mesh finer than the budget is refused (the exchanges
+        // are a dense matrix of 4 N^2 bytes).
+        size_t sides = 0;
+        for (size_t i = 0; i < nc; ++i)
+            if (S.m_coarse[i].root >= 0) sides += size_t(active[i][0] + active[i][1]);
+        if (sides > size_t(prm.max_patches))
+            throw Error(fmt::format(
+                "the radiosity method needs at least {} patches (one per lit side of each "
+                "diffuse triangle), more than \"maxpatches\" {}: raise it (the form factors "
+                "take 4 maxpatches^2 bytes) or use the path tracer", sides, prm.max_patches));
+    }
     double h = prm.patch_size;
+    if (h > 0 && count_for(h) > double(prm.max_patches)) {
+        st.notes.push_back(fmt::format("\"patchsize\" {} would need more than \"maxpatches\" "
+                                       "{} patches: coarsened", h, prm.max_patches));
+        h = 0;
+    }
     if (!(h > 0)) {
         const double target = std::max(1.0, double(prm.max_patches) / 3);
         h = std::sqrt(4 * std::max(active_area, 1e-12) / target / std::sqrt(3.0));
-        while (count_for(h) > double(prm.max_patches) / 2) h *= 1.1;
+        for (int i = 0; i < 400 && count_for(h) > double(prm.max_patches) / 2; ++i) h *= 1.1;
     }
     // Nodes: for each coarse triangle a tree of midpoint splits.
     struct Tri {
