@@ -26,6 +26,7 @@
 #include "steradian/integrators/checkpoint.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/measure.h"
+#include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 
@@ -175,7 +176,33 @@ struct MeasureArgs {
     bool quiet = false;
     std::string checkpoint, resume;
     double checkpoint_every = 0;
+    std::string method = "auto";
+    std::string radiosity_mesh;
+    int replicas = 32, pilot_samples = 32;
 };
+
+/// Solves the scene by the radiosity pass (its Integrator's parameters, or the defaults),
+/// says so on stderr, and writes the mesh if asked.
+std::unique_ptr<sr::RadiositySolution> solve_radiosity_for(const sr::Scene& scene, int threads,
+                                                           const std::string& mesh_out,
+                                                           bool quiet) {
+    auto sol = sr::solve_radiosity(scene, scene.integrator.radiosity, threads);
+    const sr::RadiosityStats& rs = sol->stats();
+    if (!quiet) {
+        std::fprintf(stderr,
+                     "steradian: radiosity: %zu patches, %zu unknowns, %zu form factors, %d "
+                     "solve(s) in %d iterations to residual %.2g, %.2f s\n",
+                     rs.patches, rs.unknowns, rs.pairs, rs.solves, rs.iterations, rs.residual,
+                     rs.seconds);
+    }
+    for (const std::string& n : rs.notes)
+        std::fprintf(stderr, "steradian: radiosity: %s\n", n.c_str());
+    if (!mesh_out.empty()) {
+        sr::write_radiosity_ply(*sol, mesh_out);
+        if (!quiet) std::fprintf(stderr, "steradian: wrote %s (radiosity mesh)\n", mesh_out.c_str());
+    }
+    return sol;
+}
 
 std::string absolute_or_empty(const std::string& path) {
     return path.empty() ? "" : std::filesystem::absolute(path).string();
@@ -198,10 +225,13 @@ sr::Checkpoint measure_checkpoint(const MeasureArgs& a, const sr::MeasureOptions
     c.set("csv", absolute_or_empty(a.csv));
     c.set("falsecolor", absolute_or_empty(a.falsecolor));
     c.set_number("checkpoint-every", a.checkpoint_every);
+    c.set("method", a.method);
     return c;
 }
 
 int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
+    if (a.pilot_samples & (a.pilot_samples - 1))
+        throw sr::Error(fmt::format("--pilot-samples {} is not a power of two", a.pilot_samples));
     std::optional<sr::Checkpoint> resume;
     if (!a.resume.empty()) {
         resume = sr::Checkpoint::load(a.resume);
@@ -216,6 +246,7 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
         if (!given("--seed")) a.seed = std::stoull(resume->get("seed"));
         if (!given("--checkpoint-every"))
             a.checkpoint_every = resume->get_double("checkpoint-every");
+        if (!given("--method")) a.method = resume->get("method");
         if (a.checkpoint.empty()) a.checkpoint = a.resume;
     }
     const std::string& scene_path = a.scene;
@@ -228,7 +259,33 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     if (!a.csv.empty()) sr::check_output_path(a.csv, "--csv");
     if (!a.falsecolor.empty()) sr::check_image_output(a.falsecolor);
     if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
+    if (!a.radiosity_mesh.empty()) sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
+    // The method: auto takes radiosity where it models every surface exactly (or the scene
+    // asks for it), and says why.
+    std::string method = a.method, reason = "--method " + a.method, why;
+    if (method == "auto") {
+        if (scene.integrator.type == "radiosity") {
+            method = "radiosity";
+            reason = "auto: the scene's Integrator is \"radiosity\"";
+        } else if (sr::radiosity_models_exactly(scene, &why)) {
+            method = "radiosity";
+            reason = "auto: every surface is diffuse";
+        } else {
+            method = "path";
+            reason = "auto: " + why;
+        }
+    }
+    if (!a.radiosity_mesh.empty() && method != "radiosity")
+        throw sr::Error(fmt::format("--radiosity-mesh: the method is {} ({}), not radiosity",
+                                    method, reason));
+    if (!a.quiet) std::fprintf(stderr, "steradian: method %s (%s)\n", method.c_str(), reason.c_str());
+    std::unique_ptr<sr::RadiositySolution> radiosity;
+    if (method == "radiosity")
+        radiosity = solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet);
     sr::MeasureOptions mo;
+    mo.radiosity = radiosity.get();
+    mo.replicas = a.replicas;
+    mo.first_samples = a.pilot_samples;
     mo.rel_error = a.rel_error;
     mo.time_budget = a.time_budget;
     mo.threads = a.threads;
@@ -247,6 +304,11 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
                        "the scene or a file it reads has changed since");
         resume->expect("rel-error", fmt::format("{}", a.rel_error), "--rel-error");
         resume->expect("seed", std::to_string(a.seed), "--seed");
+        resume->expect("method", a.method, "--method");
+        resume->expect("estimator",
+                       fmt::format("{} replicas, {} to {} samples", mo.replicas, mo.first_samples,
+                                   mo.max_samples),
+                       "--replicas and --pilot-samples");
         size_t values = 0;
         for (const sr::Meter& m : scene.meters) values += m.points.size();
         resumed = sr::get_measure_state(*resume, values);
@@ -289,6 +351,7 @@ struct RenderArgs {
     std::string luminance_out, falsecolor_out;
     std::string checkpoint, resume;
     double checkpoint_every = 0;
+    std::string radiosity_mesh;
 };
 
 /// The checkpoint of a render: what decides its result (the build, the scene's contents,
@@ -361,6 +424,15 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     std::filesystem::path meters_json(outs.front());
     meters_json.replace_extension(".meters.json");
     if (!scene.meters.empty()) sr::check_output_path(meters_json.string(), "the meters' readings");
+    if (!a.radiosity_mesh.empty()) {
+        if (scene.integrator.type != "radiosity")
+            throw sr::Error(fmt::format("--radiosity-mesh: the scene's integrator is \"{}\", not "
+                                        "\"radiosity\"", scene.integrator.type));
+        sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
+    }
+    std::unique_ptr<sr::RadiositySolution> radiosity;
+    if (scene.integrator.type == "radiosity")
+        radiosity = solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet);
     sr::Film film(scene.film);
     sr::RenderOptions ro;
     ro.spp = a.spp;
@@ -369,6 +441,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     ro.time_budget = a.time_budget;
     ro.progress = !a.quiet && isatty(STDERR_FILENO);
     ro.stop = &g_stop;
+    ro.radiosity = radiosity.get();
     const int total_spp = sr::render_samples_per_pixel(scene, ro);
     std::string exe, digest;
     if (resume || !a.checkpoint.empty()) {
@@ -465,6 +538,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     }
     if (!scene.meters.empty()) {
         sr::MeasureOptions mo;
+        mo.radiosity = radiosity.get();
         mo.threads = threads;
         mo.seed = seed;
         mo.stop = &g_stop;
@@ -669,6 +743,9 @@ int main(int argc, char** argv) {
                        "continue the render saved in this checkpoint: same scene, samples per "
                        "pixel and seed, identical image; options not given come from it, and it "
                        "is updated as the render goes on");
+    render->add_option("--radiosity-mesh", ra.radiosity_mesh,
+                       "Integrator \"radiosity\": also write the solved mesh (.ply, per-vertex "
+                       "colours)");
 
     auto* measure = app.add_subcommand(
         "measure", "Compute the scene's Meter readings (lx, W/m2, cd/m2) with standard errors");
@@ -689,6 +766,19 @@ int main(int argc, char** argv) {
     measure->add_option("--falsecolor", margs.falsecolor,
                         "write false-colour images of the grid meters with a labelled scale (.png)");
     measure->add_flag("-q,--quiet", margs.quiet, "no summary on stderr");
+    measure->add_option("--method", margs.method,
+                        "auto (default: radiosity if every surface is diffuse or the scene's "
+                        "Integrator is \"radiosity\", else path), path or radiosity")
+        ->check(CLI::IsMember({"auto", "path", "radiosity"}));
+    measure->add_option("--replicas", margs.replicas,
+                        "independent replicas per value, whose spread gives the standard error "
+                        "(default 32)")
+        ->check(CLI::Range(2, 1024));
+    measure->add_option("--pilot-samples", margs.pilot_samples,
+                        "samples per replica of the pilot round (a power of two, default 32)")
+        ->check(CLI::Range(1, 1 << 16));
+    measure->add_option("--radiosity-mesh", margs.radiosity_mesh,
+                        "with the radiosity method: write the solved mesh (.ply, per-vertex colours)");
     measure->add_option("--checkpoint", margs.checkpoint,
                         "save the measurement's state to this file as it goes (atomically), so "
                         "that --resume can continue it after an interruption or a crash");

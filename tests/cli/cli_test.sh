@@ -517,5 +517,36 @@ assert w and w[0]['line'] == 2 and 'ActiveTransform' in w[0]['message'], w"
 check "check of a missing file exits 1" test $? -eq 1
 check "check of a missing file says so" grep -q "missing.pbrt: FAILED" "$tmp/check-missing.txt"
 
+# measure --method: auto picks radiosity for an all-diffuse scene and says so; the JSON
+# names the method; --radiosity-mesh writes a PLY; path is forced by --method path; a mesh
+# without the radiosity method is an error; render with Integrator "radiosity".
+cie58="$ROOT/tests/data/cie171/case-5.8-rho0.5.pbrt"
+"$bin" measure "$cie58" --rel-error 0.05 --replicas 4 --pilot-samples 4 --json "$tmp/rad.json" \
+  --radiosity-mesh "$tmp/rad.ply" > "$tmp/rad.txt" 2>&1
+check "measure --method auto on diffuse surfaces exits 0" test $? -eq 0
+check "auto says radiosity and why" grep -q "method radiosity (auto: every surface is diffuse)" "$tmp/rad.txt"
+check "the JSON names the method" python3 -c "
+import json; d = json.load(open('$tmp/rad.json'))
+assert d['method'] == 'radiosity' and d['radiosity']['unknowns'] > 0, d.get('method')
+assert all(s > 0 for m in d['meters'] for s in m['stderr'])"
+check "--radiosity-mesh writes a binary PLY with colours" bash -c "head -c 600 '$tmp/rad.ply' | grep -q 'property uchar red'"
+"$bin" measure "$cie58" --method path --rel-error 0.2 > "$tmp/radp.txt" 2>&1
+check "--method path says so" grep -q "method path (--method path)" "$tmp/radp.txt"
+"$bin" measure "$cie58" --method path --radiosity-mesh "$tmp/x.ply" > "$tmp/radx.txt" 2>&1
+check "--radiosity-mesh without radiosity fails" test $? -ne 0
+check "--radiosity-mesh without radiosity says why" grep -q "not radiosity" "$tmp/radx.txt"
+{ cat "$tmp/small.pbrt"; echo 'Meter "illuminance" "string name" "p" "point3 p" [ 0 0 -2 ] "normal n" [ 0 0 -1 ]'; } > "$tmp/radsphere.pbrt"
+"$bin" measure "$tmp/radsphere.pbrt" --rel-error 0.2 > "$tmp/radm.txt" 2>&1
+check "auto keeps the path tracer for a sphere" grep -q "method path (auto: " "$tmp/radm.txt"
+"$bin" measure "$cie58" --pilot-samples 3 > "$tmp/radps.txt" 2>&1
+check "--pilot-samples must be a power of two" grep -q "not a power of two" "$tmp/radps.txt"
+sed 's/^Integrator .*/Integrator "radiosity" "integer maxpatches" [ 200 ]/' "$cie58" > "$tmp/rad-int.pbrt"
+"$bin" render "$tmp/rad-int.pbrt" -o "$tmp/rad.exr" --spp 4 --radiosity-mesh "$tmp/rad2.ply" --quiet
+check "render with Integrator radiosity exits 0" test $? -eq 0
+check "render with Integrator radiosity writes image and mesh" test -s "$tmp/rad.exr" -a -s "$tmp/rad2.ply"
+printf 'Integrator "radiosity" "integer maxpatches" [ 0 ]\nWorldBegin\n' > "$tmp/radbad.pbrt"
+"$bin" render "$tmp/radbad.pbrt" -o "$tmp/radbad.exr" > "$tmp/radbad.txt" 2>&1
+check "a bad radiosity parameter is located" grep -q "radbad.pbrt:1:1.*maxpatches" "$tmp/radbad.txt"
+
 echo "cli: $pass passed, $fail failed"
 test "$fail" -eq 0

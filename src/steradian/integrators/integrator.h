@@ -13,6 +13,7 @@
 namespace sr {
 
 class Scene;
+class RadiositySolution;
 
 struct RenderOptions {
     int spp = 0;               ///< samples per pixel; <= 0: the scene's Sampler value
@@ -33,6 +34,9 @@ struct RenderOptions {
     /// Resuming: the film already holds samples [0, resume->spp) of every pixel (a
     /// checkpoint's sums, Film::set_sums), and `resume` the statistics of that work.
     const struct RenderStats* resume = nullptr;
+    /// Integrator "radiosity": the solution to gather from (render() solves the scene itself
+    /// when null).
+    const RadiositySolution* radiosity = nullptr;
 };
 
 /// Largest pass, in samples per pixel: the film takes a pass at a time, so this bounds the

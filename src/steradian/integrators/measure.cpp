@@ -13,6 +13,7 @@
 #include "steradian/bsdf/bsdf.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
+#include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/sampling/padded_sobol_sampler.h"
 #include "steradian/sampling/sampler.h"
@@ -87,6 +88,17 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
 
     MeasureResult res;
     res.rel_error_target = opt.rel_error;
+    if (opt.radiosity) {
+        const RadiosityStats& rs = opt.radiosity->stats();
+        res.method = "radiosity";
+        res.method_figures = {{"patches", double(rs.patches)},
+                              {"unknowns", double(rs.unknowns)},
+                              {"form_factor_pairs", double(rs.pairs)},
+                              {"solves", double(rs.solves)},
+                              {"iterations", double(rs.iterations)},
+                              {"residual", rs.residual},
+                              {"solve_seconds", rs.seconds}};
+    }
     // Flatten (meter, point) into value indices.
     struct Value {
         int meter;
@@ -201,7 +213,9 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                             return;
                         }
                         sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
-                        double v = meter_sample(scene, m, val.point, sampler, counters);
+                        double v = opt.radiosity ? radiosity_meter_sample(scene, *opt.radiosity, m,
+                                                                          val.point, sampler, counters)
+                                                 : meter_sample(scene, m, val.point, sampler, counters);
                         if (!std::isfinite(v)) {
                             ++bad;
                             v = 0;
@@ -338,6 +352,12 @@ std::string meters_json(const MeasureResult& res) {
     root["cpu_seconds"] = res.cpu_seconds;
     root["paths"] = res.paths;
     root["nonfinite"] = res.nonfinite;
+    root["method"] = res.method;
+    if (!res.method_figures.empty()) {
+        nlohmann::ordered_json fig;
+        for (const auto& [k, v] : res.method_figures) fig[k] = v;
+        root[res.method] = std::move(fig);
+    }
     nlohmann::ordered_json meters = nlohmann::ordered_json::array();
     for (const MeterReading& r : res.readings) {
         const Meter& m = r.meter;

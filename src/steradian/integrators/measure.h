@@ -28,6 +28,7 @@ namespace sr {
 
 class Scene;
 class Sampler;
+class RadiositySolution;
 struct PathCounters;
 
 /// A measurement's state between two batches of its work: what a checkpoint saves. Values
@@ -69,6 +70,10 @@ struct MeasureOptions {
     int first_samples = 32;   ///< samples per replica in the pilot round (power of two)
     /// Samples per replica beyond which a value stops unconverged (a power of two).
     int max_samples = 1 << 22;
+    /// Set: the readings by the radiosity method (integrators/radiosity/: direct light by
+    /// the path tracer's first vertex, indirect by gather rays reading this solution);
+    /// null: by the path tracer.
+    const RadiositySolution* radiosity = nullptr;
 };
 
 struct MeterReading {
@@ -89,6 +94,9 @@ struct MeasureResult {
     bool time_limited = false;  ///< stopped early (time budget or MeasureOptions::stop)
     bool interrupted = false;   ///< MeasureOptions::stop was set
     bool all_converged = true;
+    /// "path" or "radiosity", and for radiosity the solution's figures (JSON "radiosity").
+    std::string method = "path";
+    std::vector<std::pair<std::string, double>> method_figures;
 };
 
 /// Measures every meter of the scene.

@@ -19,6 +19,7 @@
 #include "steradian/core/error.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
+#include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/scene/scene.h"
 
 namespace sr {
@@ -73,6 +74,8 @@ struct ThreadState {
     /// Scale of the first hits' footprints when only the film needs them (gbuffer's
     /// dpdx, dpdy; the same scale).
     Float visible_footprint_scale = 0;
+    /// Integrator "radiosity": the solution its camera samples gather from; null: path.
+    const RadiositySolution* radiosity = nullptr;
     /// Scratch space of render_packet (kept per thread: its hit records are large).
     std::unique_ptr<SamplePacket> packet = std::make_unique<SamplePacket>();
 };
@@ -111,6 +114,13 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
     unsigned pending = 0;
     for (int k = 0; k < n; ++k) {
         sampler.start_pixel_sample(pixel, first + k, kCameraDimensions);
+        if (ts.radiosity) {
+            p.L[k] = radiosity_li_from(scene, *ts.radiosity, p.rays[k], (found >> k) & 1, p.hits[k],
+                                       p.lambda[k], sampler, ts.counters);
+            p.shadow[k].pending = false;
+            if (visible) p.visible[k].set = false;
+            continue;
+        }
         p.L[k] = path_li_from(scene, p.rays[k], (found >> k) & 1, p.hits[k], p.lambda[k], sampler,
                               ts.counters, &p.shadow[k], visible ? &p.visible[k] : nullptr,
                               ts.footprint_scale);
@@ -205,8 +215,14 @@ int render_samples_per_pixel(const Scene& scene, const RenderOptions& opt) {
 }
 
 RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
-    if (scene.integrator.type != "path")
+    if (scene.integrator.type != "path" && scene.integrator.type != "radiosity")
         throw Error(fmt::format("integrator \"{}\" is not supported yet", scene.integrator.type));
+    std::unique_ptr<RadiositySolution> own_radiosity;
+    const RadiositySolution* radiosity = opt.radiosity;
+    if (scene.integrator.type == "radiosity" && !radiosity) {
+        own_radiosity = solve_radiosity(scene, scene.integrator.radiosity, opt.threads);
+        radiosity = own_radiosity.get();
+    }
     const FilmParams& fp = film.params();
     const int total_spp = render_samples_per_pixel(scene, opt);
     const uint64_t seed = scene.sampler.seed + opt.seed;
@@ -224,6 +240,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         ThreadState s;
         s.sampler = proto->clone();
+        s.radiosity = radiosity;
         // pbrt-v4 scales camera ray differentials by max(1/8, 1/sqrt(samples per pixel)).
         const Float scale = std::max(Float(0.125), 1 / std::sqrt(Float(total_spp)));
         if (scene.texture_footprints) s.footprint_scale = scale;

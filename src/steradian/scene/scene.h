@@ -39,8 +39,20 @@ struct SamplerSettings {
 /// Which strategies the path integrator combines.
 enum class LightStrategy { Mis, BsdfOnly, LightOnly };
 
+/// Integrator "radiosity" (a steradian extension; docs/radiosity.md): the meshing, solve and
+/// final-gather parameters.
+struct RadiosityParams {
+    Float patch_size = 0;        ///< longest patch edge of the initial mesh; 0: from max_patches
+    int max_patches = 2048;      ///< most patches (unknowns) after adaptive subdivision
+    Float subdivide = 0.25f;     ///< split a patch whose direct irradiance varies more than this
+    Float residual = 1e-6f;      ///< relative residual the solve stops at
+    int direct_samples = 16;     ///< per patch and non-delta light
+    int max_depth = 5;           ///< gather bounces through non-diffuse surfaces
+};
+
 struct IntegratorSettings {
     std::string type = "path";
+    RadiosityParams radiosity;
     int max_depth = 5;
     LightStrategy strategy = LightStrategy::Mis;
     bool regularize = false;

@@ -293,6 +293,26 @@ void Builder::build_integrator(const EntityDesc& e) {
         else
             throw_error(e.loc, "unknown \"strategy\" \"{}\": expected mis, bsdf or light",
                         strategy);
+    } else if (type == "radiosity") {
+        // A steradian extension (docs/radiosity.md).
+        RadiosityParams& r = is.radiosity;
+        r.max_depth = is.max_depth = ps.get_int("maxdepth", 5);
+        r.patch_size = ps.get_float("patchsize", 0);
+        r.max_patches = ps.get_int("maxpatches", r.max_patches);
+        r.subdivide = ps.get_float("subdivide", r.subdivide);
+        r.residual = ps.get_float("residual", r.residual);
+        r.direct_samples = ps.get_int("directsamples", r.direct_samples);
+        if (!(r.patch_size >= 0) || !std::isfinite(r.patch_size))
+            throw_error(e.loc, "\"patchsize\" must be >= 0 (0: from \"maxpatches\")");
+        if (r.max_patches < 1 || r.max_patches > 20000)
+            throw_error(e.loc, "\"maxpatches\" {} is outside 1..20000 (the form factors are "
+                        "a dense matrix of maxpatches^2 floats)", r.max_patches);
+        if (!(r.subdivide >= 0) || !std::isfinite(r.subdivide))
+            throw_error(e.loc, "\"subdivide\" must be >= 0 (0: no adaptive subdivision)");
+        if (!(r.residual > 0 && r.residual < 1))
+            throw_error(e.loc, "\"residual\" must be in (0, 1)");
+        if (r.direct_samples < 1 || r.direct_samples > 4096)
+            throw_error(e.loc, "\"directsamples\" must be in 1..4096");
     } else if (type == "simplepath") {
         is.max_depth = ps.get_int("maxdepth", 5);
         bool lights = ps.get_bool("samplelights", true);
@@ -321,7 +341,7 @@ void Builder::build_integrator(const EntityDesc& e) {
     else
         throw_error(e.loc, "unknown light sampler \"{}\"", ls);
     ps.check_unused(fmt::format("Integrator \"{}\"", type));
-    is.type = "path";
+    is.type = type == "radiosity" ? "radiosity" : "path";
     m_s.integrator = is;
 }
 

@@ -1,0 +1,170 @@
+/// The final gather of the radiosity integrator: meters and camera samples read the solved
+/// mesh where their rays first meet a diffuse surface (docs/radiosity.md).
+#include <variant>
+
+#include "steradian/bsdf/bsdf.h"
+#include "steradian/integrators/path/path.h"
+#include "steradian/integrators/radiosity/radiosity.h"
+#include "steradian/material/material.h"
+#include "steradian/sampling/warp.h"
+#include "steradian/scene/scene.h"
+
+namespace sr {
+
+namespace {
+
+/// As measure.cpp's: the meter's spectral weighting of a sampled spectrum.
+double weigh(const Meter& m, const SampledSpectrum& L, const SampledWavelengths& lambda) {
+    double sum = 0;
+    for (int i = 0; i < kSpectrumSamples; ++i)
+        if (lambda.pdf[i] > 0)
+            sum += double(L[i]) * double(m.spectral_weight(lambda.lambda[i])) / double(lambda.pdf[i]);
+    return sum / kSpectrumSamples;
+}
+
+SampledSpectrum emitted(const Scene& scene, const SurfaceHit& hit, const SampledWavelengths& lambda) {
+    const auto* area = std::get_if<DiffuseAreaLight>(&scene.lights[size_t(hit.light)]);
+    if (!area || (area->alpha && area->masked(hit.p))) return SampledSpectrum(0);
+    return area->l(hit.ng, hit.wo, lambda);
+}
+
+/// Continues a path at a non-diffuse scattering surface by sampling its BSDF: false if the
+/// path ends.
+bool continue_path(const SurfaceHit& hit, const Bsdf& bsdf, Ray& ray,
+                   SampledSpectrum& beta, Sampler& sampler) {
+    Float uc = sampler.get_1d();
+    Point2 u = sampler.get_2d();
+    auto bs = bsdf.sample(hit.wo, uc, u);
+    if (!bs) return false;
+    beta *= bs->f * (bs->cos_over_pdf > 0 ? bs->cos_over_pdf : absdot(bs->wi, hit.ns) / bs->pdf_sa);
+    ray = spawn_ray(hit, bs->wi);
+    return !beta.is_zero() && !beta.has_nonfinite();
+}
+
+}  // namespace
+
+SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& sol, Ray ray,
+                                 SampledWavelengths& lambda, Sampler& sampler,
+                                 PathCounters& counters, int max_depth) {
+    SampledSpectrum L(0), beta(1);
+    SurfaceHit hit;
+    const MaterialContext mctx = scene.material_context();
+    int bounces = 0, crossings = 0;
+    while (true) {
+        ++counters.rays;
+        if (!scene.intersect(ray, hit)) {
+            if (bounces > 0)
+                for (int li : scene.infinite_lights)
+                    L += beta * infinite_le(scene.lights[size_t(li)], ray, lambda);
+            return L;
+        }
+        if (bounces > 0 && hit.light >= 0) L += beta * emitted(scene, hit, lambda);
+        SampledSpectrum B;
+        if (hit.material >= 0 && sol.exitance(hit, lambda, B)) return L + beta * B * kInvPi;
+        std::optional<Bsdf> bsdf =
+            hit.material >= 0 ? make_bsdf(scene.materials[size_t(hit.material)], mctx, hit, lambda)
+                              : std::nullopt;
+        if (!bsdf) {
+            if (++crossings > 256) return L;
+            ray = spawn_ray(hit, ray.d);
+            continue;
+        }
+        if (bounces++ == max_depth) return L;
+        if (!continue_path(hit, *bsdf, ray, beta, sampler)) return L;
+    }
+}
+
+double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, const Meter& m,
+                              size_t point, Sampler& sampler, PathCounters& counters) {
+    SampledWavelengths lambda = SampledWavelengths::sample_visible(sampler.get_1d());
+    const Vec3 dir = m.directions[point];
+    Point3 p = m.points[point];
+    if (m.kind == MeterKind::Luminance) {
+        Point2 u = sampler.get_2d();
+        Vec3 d = dir;
+        if (m.cone_half_angle > 0)
+            d = Frame::from_z(dir).to_world(sample_uniform_cone(u, std::cos(m.cone_half_angle)));
+        Ray ray{p, d, kInfinity};
+        SurfaceHit hit;
+        ++counters.rays;
+        const bool found = scene.intersect(ray, hit);
+        SampledSpectrum L = radiosity_li_from(scene, sol, ray, found, hit, lambda, sampler, counters);
+        return weigh(m, L, lambda);
+    }
+    if (m.cell_average) {
+        Point2 u = sampler.get_2d();
+        p = p + m.cell_u * (u.x - Float(0.5)) + m.cell_v * (u.y - Float(0.5));
+    }
+    // An ideal white Lambertian receiver facing `dir`: E = pi L_o, L_o = direct (the path
+    // tracer's first vertex) + indirect (one cosine-distributed gather ray: f cos / pdf = 1).
+    SurfaceHit v;
+    v.p = p;
+    Float err = (std::abs(p.x) + std::abs(p.y) + std::abs(p.z) + 1) * Float(2e-6);
+    v.p_error = Vec3(err, err, err);
+    v.ng = v.ns = v.wo = dir;
+    Frame frame = Frame::from_z(dir);
+    v.dpdu = frame.s;
+    const Point2 ug = sampler.get_2d();
+    double e = 0;
+    if (m.component != MeterComponent::Direct) {
+        const Vec3 wi = frame.to_world(sample_cosine_hemisphere(ug));
+        SampledSpectrum Li = radiosity_gather(scene, sol, spawn_ray(v, wi), lambda, sampler,
+                                              counters, scene.integrator.radiosity.max_depth);
+        e += kPi * weigh(m, Li, lambda);
+    }
+    if (m.component != MeterComponent::Indirect) {
+        Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
+        PathLimits lim;
+        lim.max_depth = 1;
+        SampledSpectrum Ld = path_lo(scene, v, receiver, lambda, sampler, counters, lim);
+        e += kPi * weigh(m, Ld, lambda);
+    }
+    return e;
+}
+
+SampledSpectrum radiosity_li_from(const Scene& scene, const RadiositySolution& sol,
+                                  const Ray& first, bool found, SurfaceHit& hit,
+                                  SampledWavelengths& lambda, Sampler& sampler,
+                                  PathCounters& counters) {
+    SampledSpectrum L(0), beta(1);
+    const MaterialContext mctx = scene.material_context();
+    const int max_depth = scene.integrator.radiosity.max_depth;
+    Ray ray = first;
+    int bounces = 0, crossings = 0;
+    while (true) {
+        if (!found) {
+            for (int li : scene.infinite_lights)
+                L += beta * infinite_le(scene.lights[size_t(li)], ray, lambda);
+            return L;
+        }
+        if (hit.light >= 0) L += beta * emitted(scene, hit, lambda);
+        std::optional<Bsdf> bsdf =
+            hit.material >= 0 ? make_bsdf(scene.materials[size_t(hit.material)], mctx, hit, lambda)
+                              : std::nullopt;
+        if (!bsdf) {
+            if (++crossings > 256) return L;
+            ray = spawn_ray(hit, ray.d);
+        } else if (sol.meshed(hit) && std::holds_alternative<LambertLobe>(bsdf->lobe())) {
+            // Direct light exactly as the path tracer's first vertex; indirect by one gather
+            // ray (Lambert's sample: f |cos| / pdf = R).
+            const Point2 ug = sampler.get_2d();
+            auto bs = bsdf->sample(hit.wo, 0, ug);
+            if (bs) {
+                SampledSpectrum Li = radiosity_gather(scene, sol, spawn_ray(hit, bs->wi), lambda,
+                                                      sampler, counters, max_depth);
+                L += beta * bs->f * kPi * Li;
+            }
+            PathLimits lim;
+            lim.max_depth = 1;
+            L += beta * path_lo(scene, hit, *bsdf, lambda, sampler, counters, lim);
+            return L;
+        } else {
+            if (bounces++ == max_depth) return L;
+            if (!continue_path(hit, *bsdf, ray, beta, sampler)) return L;
+        }
+        ++counters.rays;
+        found = scene.intersect(ray, hit);
+    }
+}
+
+}  // namespace sr

@@ -1,0 +1,129 @@
+#pragma once
+/// Integrator "radiosity" (a steradian extension; docs/radiosity.md): the scene's diffuse
+/// triangles meshed into patches (split uniformly to a patch size, then adaptively where the
+/// direct irradiance varies), form factors from the analytic point-to-polygon form factor
+/// integrated over the receiving patch with ray-cast visibility, and the radiosity system
+/// solved by preconditioned conjugate gradients on its symmetric form to a stated residual.
+///
+/// Spectral representation: 48 wavelengths 10 nm apart, 360..830 nm, read between them by
+/// linear interpolation. Direct light is never in the mesh: the solution holds the exitance
+/// *reflected* by each patch (each side of it), computed from the exact direct irradiance at
+/// the patch's quadrature points; the final gather adds direct light at the receiving point
+/// with the path tracer's light sampling, and reads the solution where its rays first meet a
+/// diffuse surface.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "steradian/integrators/radiosity/form_factor.h"
+#include "steradian/spectrum/sampled.h"
+
+namespace sr {
+
+class Scene;
+class Sampler;
+struct Meter;
+struct PathCounters;
+struct RadiosityParams;
+struct SurfaceHit;
+
+namespace radiosity {
+inline constexpr int kBands = 48;
+inline constexpr Float kFirstNm = 360, kStepNm = 10;
+inline Float band_lambda(int k) { return kFirstNm + kStepNm * Float(k); }
+}  // namespace radiosity
+
+struct RadiosityStats {
+    size_t diffuse_triangles = 0;  ///< scene triangles meshed
+    size_t patches = 0;            ///< leaf patches
+    size_t unknowns = 0;           ///< patch sides in the system
+    size_t pairs = 0;              ///< form factors computed (facing pairs)
+    uint64_t rays = 0;             ///< visibility and direct-light shadow rays
+    int solves = 0;                ///< right-hand sides solved (after rank reduction)
+    int iterations = 0;            ///< conjugate-gradient iterations, all solves
+    double residual = 0;           ///< largest relative residual reached
+    double seconds = 0;            ///< wall
+    std::vector<std::string> notes;  ///< what the pass left out (unmeshed shapes, ...)
+};
+
+/// The solved mesh: per patch side its reflected exitance (scene units), and the lookup from
+/// a scene hit to its patch.
+class RadiositySolution {
+public:
+    struct Patch {
+        std::array<radiosity::DVec3, 3> p;
+        radiosity::DVec3 n;  ///< unit normal of the front side (the triangle's winding)
+        double area = 0;
+        int unknown[2] = {-1, -1};  ///< front and back side (-1: not in the system)
+    };
+    /// Reflected exitance at a hit of the scene, at the wavelengths lambda; false if the hit
+    /// is not on a meshed (diffuse) surface.
+    bool exitance(const SurfaceHit& h, const SampledWavelengths& lambda, SampledSpectrum& B) const;
+    /// Whether a hit's surface is meshed (diffuse).
+    bool meshed(const SurfaceHit& h) const;
+
+    const std::vector<Patch>& patches() const { return m_patches; }
+    /// Exitance of unknown u at band k.
+    float band(int u, int k) const { return m_B[size_t(u) * radiosity::kBands + size_t(k)]; }
+    const RadiosityStats& stats() const { return m_stats; }
+
+private:
+    friend std::unique_ptr<RadiositySolution> solve_radiosity(const Scene&, const RadiosityParams&,
+                                                             int threads);
+    int leaf_at(const SurfaceHit& h) const;
+    struct Node {
+        int child = -1;  ///< first of four children, or -1 (leaf)
+        int patch = -1;  ///< leaf: index into m_patches
+    };
+    struct Coarse {
+        int shape = -1;
+        uint32_t prim = 0;
+        radiosity::DVec3 p0, e1, e2;  ///< p0 and the edges to p1 and p2
+        radiosity::DVec3 n;
+        int root = -1;
+        bool black = false;  ///< reflects nothing (its sides are not in the system)
+    };
+    std::vector<int> m_shape_first;  ///< per scene shape: its first coarse triangle, or -1
+    std::vector<Coarse> m_coarse;
+    std::vector<Node> m_nodes;
+    std::vector<Patch> m_patches;
+    std::vector<float> m_B;  ///< unknowns x kBands
+    RadiosityStats m_stats;
+};
+
+/// Meshes and solves the scene's diffuse surfaces. Deterministic: the same scene and
+/// parameters give the same solution on any number of threads (0: all).
+std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const RadiosityParams& params,
+                                                  int threads = 0);
+
+/// Whether every surface of the scene is one the radiosity pass models exactly: diffuse
+/// (Lambertian) or interface triangles outside instances, and no media. `why` says what is
+/// not, when it returns false.
+bool radiosity_models_exactly(const Scene& scene, std::string* why = nullptr);
+
+/// Writes the solved mesh as a binary PLY with per-vertex sRGB colours (the front side's
+/// exitance, else the back's, as XYZ to sRGB, scaled so that the brightest patch is white)
+/// and the photopic exitance in lm/m^2 per vertex ("exitance" property).
+void write_radiosity_ply(const RadiositySolution& sol, const std::string& path);
+
+/// Radiance arriving along `ray` as the final gather sees it: the solution's reflected
+/// exitance / pi at the first diffuse surface, paths continuing through non-diffuse
+/// surfaces by BSDF sampling (at most `max_depth` such bounces), with emission and light at
+/// infinity counted only after such a bounce (the caller counts direct light).
+SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& sol, Ray ray,
+                                 SampledWavelengths& lambda, Sampler& sampler,
+                                 PathCounters& counters, int max_depth);
+
+/// One sample of value `point` of meter `m` by the radiosity method: direct light by the
+/// path tracer's first vertex (light and BSDF sampling), indirect by one gather ray.
+double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, const Meter& m,
+                              size_t point, Sampler& sampler, PathCounters& counters);
+
+/// A camera sample's radiance by the radiosity integrator (the camera ray's first hit given).
+SampledSpectrum radiosity_li_from(const Scene& scene, const RadiositySolution& sol,
+                                  const Ray& ray, bool found, SurfaceHit& hit,
+                                  SampledWavelengths& lambda, Sampler& sampler,
+                                  PathCounters& counters);
+
+}  // namespace sr

@@ -1,0 +1,200 @@
+// The radiosity integrator (integrators/radiosity/, docs/radiosity.md) on the CIE 171:2006
+// cases with closed-form answers: 5.8 (interreflections in a closed cube: the face-averaged
+// indirect illuminance is rho Phi / (S (1 - rho))) and 5.3 (direct light of a Lambertian
+// panel), the energy balance of the solution itself, and its independence of the thread
+// count. Tolerances: the issue's (0.2 % and 0.1 % of the closed form), with the gather's
+// standard error required to be well inside them; fixed seeds (deterministic).
+#include <gtest/gtest.h>
+
+#include "steradian/core/error.h"
+#include "steradian/integrators/measure.h"
+#include "steradian/integrators/radiosity/radiosity.h"
+#include "steradian/scene/build.h"
+#include "steradian/scene/pbrt/parser.h"
+#include "steradian/spectrum/spectrum.h"
+#include "support/render_util.h"
+
+namespace sr::test {
+namespace {
+
+const std::string kCie = std::string(STERADIAN_SOURCE_DIR) + "/tests/data/cie171/";
+
+Scene load(const std::string& name) { return build_scene(parse_pbrt_file(kCie + name), {}); }
+
+MeasureResult measure_radiosity(const Scene& s, const RadiositySolution& sol, double rel_error) {
+    MeasureOptions o;
+    o.rel_error = rel_error;
+    o.threads = 2;
+    o.radiosity = &sol;
+    return measure(s, o);
+}
+
+/// Photopic reflected flux of the solution, sum over patch sides of A B (lm).
+double reflected_flux(const RadiositySolution& sol) {
+    double total = 0;
+    for (const auto& p : sol.patches())
+        for (int u : p.unknown) {
+            if (u < 0) continue;
+            double y = 0;
+            for (int k = 0; k < radiosity::kBands; ++k) {
+                const Float l = radiosity::band_lambda(k);
+                y += double(cie_y()(l)) * double(sol.band(u, k)) * radiosity::kStepNm *
+                     ((k == 0 || k == radiosity::kBands - 1) ? 0.5 : 1.0);
+            }
+            total += p.area * y;
+        }
+    return total;
+}
+
+class RadiosityCase5_8 : public ::testing::TestWithParam<double> {};
+
+// Energy balance (CIE 171:2006 5.8): the direct flux Phi lands on the walls; each
+// reflection returns rho of it, so the reflected flux is rho Phi / (1 - rho) and the
+// face-averaged indirect illuminance rho Phi / (S (1 - rho)), S = 96 m^2.
+TEST_P(RadiosityCase5_8, FaceAveragedIndirectIlluminance) {
+    const double rho = GetParam();
+    Scene s = load(fmt::format("case-5.8-rho{}.pbrt", rho));
+    RadiosityParams prm;
+    prm.max_patches = 1024;
+    auto sol = solve_radiosity(s, prm, 2);
+    const double phi = 10000, S = 96;
+    // The solution alone: its reflected flux, within 0.2 % (the 10-nm band sum of V(lambda)
+    // against the continuous 1 lm = 1 cd sr normalisation is part of that budget).
+    const double flux = reflected_flux(*sol);
+    EXPECT_NEAR(flux, rho * phi / (1 - rho), 2e-3 * rho * phi / (1 - rho)) << "rho " << rho;
+    EXPECT_LE(sol->stats().residual, 1e-6);
+    // The meters: indirect by the final gather, direct by light sampling.
+    MeasureResult r = measure_radiosity(s, *sol, 4e-4);
+    ASSERT_EQ(r.readings.size(), 2u);
+    EXPECT_EQ(r.method, "radiosity");
+    const MeterReading& ind = r.readings[0];
+    const MeterReading& dir = r.readings[1];
+    const double expected = rho * phi / (S * (1 - rho));
+    EXPECT_TRUE(r.all_converged);
+    EXPECT_LE(ind.avg_stderr, 5e-4 * expected);
+    EXPECT_NEAR(ind.avg, expected, 2e-3 * expected) << "rho " << rho;
+    EXPECT_NEAR(dir.avg, phi / S, 2e-3 * phi / S);
+}
+
+INSTANTIATE_TEST_SUITE_P(Reflectances, RadiosityCase5_8, ::testing::Values(0.2, 0.5, 0.8, 0.95));
+
+// 5.3: the room is black, so the radiosity pass has nothing to solve and every reading is
+// direct light, within 0.1 % of the published values.
+TEST(Radiosity, Case5_3AreaSourceInBlackRoom) {
+    Scene s = load("case-5.3.pbrt");
+    auto sol = solve_radiosity(s, RadiosityParams{}, 2);
+    EXPECT_EQ(sol->stats().unknowns, 0u);
+    MeasureResult r = measure_radiosity(s, *sol, 3e-4);
+    ASSERT_EQ(r.readings.size(), 2u);
+    const double floor[] = {61.424, 79.255, 95.667, 105.778};
+    const double wall[] = {32.677, 75.194, 81.323, 69.061, 53.404, 40.002};
+    for (size_t i = 0; i < 4; ++i) {
+        SCOPED_TRACE(i);
+        EXPECT_NEAR(r.readings[0].values[i], floor[i], 1e-3 * floor[i]);
+    }
+    for (size_t i = 0; i < 6; ++i) {
+        SCOPED_TRACE(i);
+        EXPECT_NEAR(r.readings[1].values[i], wall[i], 1e-3 * wall[i]);
+    }
+}
+
+TEST(Radiosity, SolutionDoesNotDependOnTheThreadCount) {
+    Scene s = load("case-5.8-rho0.5.pbrt");
+    RadiosityParams prm;
+    prm.max_patches = 300;
+    auto a = solve_radiosity(s, prm, 1);
+    auto b = solve_radiosity(s, prm, 2);
+    ASSERT_EQ(a->stats().unknowns, b->stats().unknowns);
+    for (size_t u = 0; u < a->stats().unknowns; ++u)
+        for (int k = 0; k < radiosity::kBands; ++k)
+            ASSERT_EQ(a->band(int(u), k), b->band(int(u), k));
+}
+
+TEST(Radiosity, RefusesAMeshBeyondItsPatchBudget) {
+    // The cube's 12 lit triangle sides need 12 patches at least.
+    Scene s = load("case-5.8-rho0.5.pbrt");
+    RadiosityParams prm;
+    prm.max_patches = 8;
+    try {
+        solve_radiosity(s, prm, 1);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("at least 12 patches"), std::string::npos) << e.what();
+    }
+    prm.max_patches = 12;
+    EXPECT_EQ(solve_radiosity(s, prm, 1)->stats().unknowns, 12u);
+}
+
+TEST(Radiosity, AutoChoosesRadiosityOnlyForDiffuseScenes) {
+    std::string why;
+    EXPECT_TRUE(radiosity_models_exactly(load("case-5.8-rho0.5.pbrt"), &why)) << why;
+    Scene glossy = build_scene(parse_pbrt_string(R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ] "string filename" "x.exr"
+WorldBegin
+Material "conductor"
+Shape "trianglemesh" "point3 P" [ 0 0 0 1 0 0 1 1 0 ] "integer indices" [ 0 1 2 ]
+)", "<test>"), {});
+    EXPECT_FALSE(radiosity_models_exactly(glossy, &why));
+    EXPECT_NE(why.find("diffuse"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace sr::test
+
+namespace sr::test {
+namespace {
+
+// Estimator agreement where visibility matters: a 4 x 3 x 2.5 m grey room (walls 0.5,
+// floor 0.2, ceiling 0.7) with a solid 1.2 x 0.6 x 0.75 m box as a desk and a point light
+// above it. Both methods solve the same transport (every surface diffuse), so they must
+// agree within the issue's 1 % per point (the office criterion) plus three combined standard
+// errors: points in the open, in the desk's shadow on the floor, on the desk and on a wall.
+TEST(Radiosity, AgreesWithThePathTracerInAnOccludedRoom) {
+    const char* scene = R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ] "string filename" "x.exr"
+Integrator "radiosity" "integer maxpatches" [ 1500 ]
+WorldBegin
+Material "diffuse" "spectrum reflectance" [ 360 0.2 830 0.2 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0 4 0 0 4 3 0 0 3 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "spectrum reflectance" [ 360 0.7 830 0.7 ]
+Shape "trianglemesh" "point3 P" [ 0 0 2.5 0 3 2.5 4 3 2.5 4 0 2.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "spectrum reflectance" [ 360 0.5 830 0.5 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0 0 0 2.5 4 0 2.5 4 0 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 0 3 0 4 3 0 4 3 2.5 0 3 2.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0 0 3 0 0 3 2.5 0 0 2.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 4 0 0 4 0 2.5 4 3 2.5 4 3 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "spectrum reflectance" [ 360 0.4 830 0.4 ]
+# The desk: a box [1.4, 2.6] x [1.2, 1.8] x [0, 0.75], faces outwards.
+Shape "trianglemesh" "point3 P" [ 1.4 1.2 0.75 2.6 1.2 0.75 2.6 1.8 0.75 1.4 1.8 0.75 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 1.4 1.2 0 2.6 1.2 0 2.6 1.2 0.75 1.4 1.2 0.75 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 1.4 1.8 0 1.4 1.8 0.75 2.6 1.8 0.75 2.6 1.8 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 1.4 1.2 0 1.4 1.2 0.75 1.4 1.8 0.75 1.4 1.8 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 2.6 1.2 0 2.6 1.8 0 2.6 1.8 0.75 2.6 1.2 0.75 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeBegin
+  Translate 2.3 1.5 2.2
+  LightSource "point" "float power" [ 3000 ]
+AttributeEnd
+Meter "illuminance" "string name" "floor" "point3 p" [ 0.6 0.6 0  2.0 1.1 0  2.7 1.5 0 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "string name" "desk" "point3 p" [ 2.0 1.5 0.75 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "string name" "wall" "point3 p" [ 0 1.5 1.2 ] "normal n" [ 1 0 0 ]
+)";
+    Scene s = build_scene(parse_pbrt_string(scene, "<test>"), {});
+    std::string why;
+    ASSERT_TRUE(radiosity_models_exactly(s, &why)) << why;
+    auto sol = solve_radiosity(s, s.integrator.radiosity, 2);
+    MeasureResult rad = measure_radiosity(s, *sol, 1e-3);
+    MeasureResult path = measure_scene(s, 2e-3);
+    ASSERT_EQ(rad.readings.size(), path.readings.size());
+    for (size_t m = 0; m < rad.readings.size(); ++m)
+        for (size_t i = 0; i < rad.readings[m].values.size(); ++i) {
+            SCOPED_TRACE(rad.readings[m].meter.name + " " + std::to_string(i));
+            const double r = rad.readings[m].values[i], p = path.readings[m].values[i];
+            const double se = std::hypot(rad.readings[m].stderrs[i], path.readings[m].stderrs[i]);
+            EXPECT_NEAR(r, p, 0.01 * p + 3 * se);
+        }
+}
+
+}  // namespace
+}  // namespace sr::test
