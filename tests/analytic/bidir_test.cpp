@@ -1,0 +1,220 @@
+// The bidirectional integrators ("bdpt", "lightpath") against the path tracer and against
+// themselves. Each estimator is unbiased, so their block means agree within their standard
+// errors; each (s, t) strategy of bdpt, unweighted, is an unbiased estimator of the paths of
+// its length, so the unweighted strategies of one length sum to (their number) x the path
+// tracer's image of that length. Standard errors come from independent renders (seeds); the
+// seeds are fixed, so the tests are deterministic.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "steradian/core/error.h"
+#include "support/render_util.h"
+
+namespace sr::test {
+namespace {
+
+std::string read_text(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+void replace_once(std::string& s, const std::string& from, const std::string& to) {
+    const size_t i = s.find(from);
+    ASSERT_NE(i, std::string::npos) << from;
+    s.replace(i, from.size(), to);
+}
+
+/// The bundled Cornell box at res x res with the given Integrator directive.
+std::string cornell(const std::string& integrator, int res) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) + "/scenes/cornell-box.pbrt");
+    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
+                 "\"integer xresolution\" [ " + std::to_string(res) +
+                     " ] \"integer yresolution\" [ " + std::to_string(res) + " ]");
+    replace_once(s, "Integrator \"path\" \"integer maxdepth\" [ 16 ]", integrator);
+    return s;
+}
+
+struct Img {
+    std::vector<double> y;
+    Image rgb;
+    RenderStats stats;
+};
+
+Img render_scene(const std::string& text, int spp, uint64_t seed, int threads = 2,
+                 RenderOptions ro = {}) {
+    SceneDesc d = parse_pbrt_string(text, "<test>", std::string(STERADIAN_SOURCE_DIR) + "/scenes");
+    BuildOptions bo;
+    bo.spp_override = spp;
+    Scene s = build_scene(d, bo);
+    Film film(s.film);
+    ro.threads = threads;
+    ro.spp = spp;
+    ro.seed = seed;
+    Img r;
+    r.stats = render(s, film, ro);
+    r.y = film.luminance();
+    r.rgb = film.rgb_image();
+    return r;
+}
+
+std::vector<double> block_means(const std::vector<double>& y, int res, int b) {
+    const int n = res / b;
+    std::vector<double> m(size_t(n * n), 0);
+    for (int yy = 0; yy < res; ++yy)
+        for (int x = 0; x < res; ++x) m[size_t((yy / b) * n + x / b)] += y[size_t(yy * res + x)];
+    for (double& v : m) v /= double(b * b);
+    return m;
+}
+
+/// Mean and standard error of each block over replicas.
+struct BlockStats {
+    std::vector<double> mean, se;
+};
+BlockStats stats_of(const std::vector<std::vector<double>>& reps) {
+    const size_t n = reps[0].size(), r = reps.size();
+    BlockStats s;
+    s.mean.assign(n, 0);
+    s.se.assign(n, 0);
+    for (const auto& v : reps)
+        for (size_t i = 0; i < n; ++i) s.mean[i] += v[i] / double(r);
+    for (const auto& v : reps)
+        for (size_t i = 0; i < n; ++i) s.se[i] += sqr(v[i] - s.mean[i]);
+    for (size_t i = 0; i < n; ++i) s.se[i] = std::sqrt(s.se[i] / double(r - 1) / double(r));
+    return s;
+}
+
+/// z-scores of the differences of two estimates (b scaled by `scale`), block by block.
+std::vector<double> z_scores(const BlockStats& a, const BlockStats& b, double scale = 1) {
+    std::vector<double> z;
+    for (size_t i = 0; i < a.mean.size(); ++i) {
+        const double se = std::sqrt(sqr(a.se[i]) + sqr(scale * b.se[i]));
+        if (se == 0) {
+            z.push_back(a.mean[i] == scale * b.mean[i] ? 0 : 1e9);
+            continue;
+        }
+        z.push_back((a.mean[i] - scale * b.mean[i]) / se);
+    }
+    return z;
+}
+
+/// With r replicas a side, each z is close to Student's t with about 2 (r - 1) degrees of
+/// freedom (Welch): its mean square is near df / (df - 2) (1.25 for r = 6) and |z| beyond 6
+/// has probability below 1e-4 per block. A bias of a few standard errors in many blocks
+/// raises the mean square well past 2.
+void expect_agree(const std::vector<double>& z, const char* what) {
+    double ms = 0, mx = 0;
+    for (double v : z) {
+        ms += v * v / double(z.size());
+        mx = std::max(mx, std::abs(v));
+    }
+    EXPECT_LT(ms, 2.0) << what;
+    EXPECT_LT(mx, 6.0) << what;
+}
+
+constexpr int kRes = 64, kBlock = 8, kReplicas = 6;
+
+BlockStats replicate(const std::string& text, int spp, uint64_t seed0, RenderOptions ro = {}) {
+    std::vector<std::vector<double>> reps;
+    for (int r = 0; r < kReplicas; ++r)
+        reps.push_back(block_means(render_scene(text, spp, seed0 + uint64_t(r), 2, ro).y, kRes, kBlock));
+    return stats_of(reps);
+}
+
+// path, lightpath and bdpt agree on the Cornell box's 8 x 8-pixel block means (64 blocks,
+// direct view of the light included) within their standard errors.
+TEST(Bidirectional, PathLightpathAndBdptAgreeOnTheCornellBox) {
+    const BlockStats path =
+        replicate(cornell("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes), 16, 100);
+    const BlockStats bdpt =
+        replicate(cornell("Integrator \"bdpt\" \"integer maxdepth\" [ 5 ]", kRes), 8, 200);
+    const BlockStats light =
+        replicate(cornell("Integrator \"lightpath\" \"integer maxdepth\" [ 5 ]", kRes), 16, 300);
+    expect_agree(z_scores(path, bdpt), "path vs bdpt");
+    expect_agree(z_scores(path, light), "path vs lightpath");
+    expect_agree(z_scores(bdpt, light), "bdpt vs lightpath");
+    // Not agreement by noise alone: the estimates are precise to a few percent.
+    double rel = 0;
+    for (size_t i = 0; i < path.mean.size(); ++i) rel = std::max(rel, path.se[i] / path.mean[i]);
+    EXPECT_LT(rel, 0.05);
+}
+
+// Each (s, t) strategy alone (weight 1) is an unbiased estimator of the contribution of the
+// paths of its length: in the Cornell box (a non-delta light, diffuse surfaces) all d + 2
+// strategies of length d can make every path of that length, so their unweighted sum is
+// (d + 2) x that contribution. The path tracer's contribution of length d is its image at
+// maxdepth d less its image at maxdepth d - 1 with the same seed (the same random numbers up
+// to the d-th vertex).
+TEST(Bidirectional, EachUnweightedStrategyIsUnbiasedForItsPathLength) {
+    constexpr int kSmall = 32;
+    for (int d = 1; d <= 3; ++d) {
+        std::vector<std::vector<double>> pr, br;
+        for (int r = 0; r < kReplicas; ++r) {
+            const uint64_t seed = 500 + uint64_t(r);
+            const auto hi = render_scene(
+                cornell("Integrator \"path\" \"integer maxdepth\" [ " + std::to_string(d) + " ]",
+                        kSmall),
+                32, seed);
+            const auto lo = render_scene(
+                cornell("Integrator \"path\" \"integer maxdepth\" [ " + std::to_string(d - 1) + " ]",
+                        kSmall),
+                32, seed);
+            std::vector<double> diff(hi.y.size());
+            for (size_t i = 0; i < diff.size(); ++i) diff[i] = hi.y[i] - lo.y[i];
+            pr.push_back(block_means(diff, kSmall, kBlock));
+            RenderOptions ro;
+            ro.bidir_unweighted = true;
+            ro.bidir_only_depth = d;
+            br.push_back(block_means(
+                render_scene(cornell("Integrator \"bdpt\" \"integer maxdepth\" [ 5 ]", kSmall), 16,
+                             700 + uint64_t(r), 2, ro)
+                    .y,
+                kSmall, kBlock));
+        }
+        const BlockStats p = stats_of(pr), b = stats_of(br);
+        expect_agree(z_scores(b, p, d + 2), ("strategies of length " + std::to_string(d)).c_str());
+        // And not (d + 1) x or (d + 3) x: the test can tell one strategy too many or few.
+        double total_b = 0, total_p = 0, se2 = 0;
+        for (size_t i = 0; i < p.mean.size(); ++i) {
+            total_b += b.mean[i];
+            total_p += p.mean[i];
+            se2 += sqr(b.se[i]) + sqr((d + 2) * p.se[i]);
+        }
+        const double ratio = total_b / total_p;
+        EXPECT_NEAR(ratio, d + 2, 6 * std::sqrt(se2) / total_p) << "length " << d;
+        EXPECT_LT(6 * std::sqrt(se2) / total_p, 0.5) << "length " << d;
+    }
+}
+
+// The image does not depend on the number of threads: splats are kept per tile and added in
+// tile order.
+TEST(Bidirectional, SameImageOnOneAndTwoThreads) {
+    for (const char* integ : {"Integrator \"bdpt\" \"integer maxdepth\" [ 4 ]",
+                              "Integrator \"lightpath\" \"integer maxdepth\" [ 4 ]"}) {
+        const std::string text = cornell(integ, 40);
+        const Img a = render_scene(text, 8, 1, 1), b = render_scene(text, 8, 1, 2);
+        ASSERT_EQ(a.rgb.data.size(), b.rgb.data.size());
+        EXPECT_TRUE(a.rgb.data == b.rgb.data) << integ;
+        double sum = 0;
+        for (float v : a.rgb.data) sum += v;
+        EXPECT_GT(sum, 0) << integ;
+    }
+}
+
+// Scenes the bidirectional integrators cannot trace yet are refused with a clear error.
+TEST(Bidirectional, RefusesOrthographicCamerasAndMedia) {
+    std::string ortho = cornell("Integrator \"bdpt\"", 16);
+    replace_once(ortho, "Camera \"perspective\" \"float fov\" [ 39.3077 ]", "Camera \"orthographic\"");
+    try {
+        render_scene(ortho, 1, 0);
+        ADD_FAILURE() << "orthographic camera accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("perspective"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace sr::test
