@@ -226,3 +226,68 @@ TEST(Bidirectional, RefusesOrthographicCamerasAndMedia) {
 
 }  // namespace
 }  // namespace sr::test
+
+namespace sr::test {
+namespace {
+
+// CIE 171:2006 case 5.2 with the light tracer: the point source I(gamma) = 1000 cos(gamma) cd
+// (from the case's IES file) 3 m above the floor gives E = 1000 cos^4(gamma) / 9 lx; a white
+// Lambertian floor (reflectance 1) then has luminance E / pi. A camera 2 m above the floor
+// looking straight down sees the square [-1.6, 1.6]^2 in 32 x 32 pixels of 0.1 m (box
+// filter: a pixel's value is the mean over its footprint); the expected value of each 8 x 8
+// block is E / pi averaged over its 0.8 m square (midpoint rule on 64 x 64 points, exact to
+// 1e-5 for this smooth E). (Meters cannot be light-traced: a point is never hit.)
+TEST(Bidirectional, LightTracerReproducesCie171Case5_2) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) + "/tests/data/cie171/case-5.2.pbrt");
+    replace_once(s, "LookAt 0 -6 5 0 0 0 0 0 1", "LookAt 0 0 2 0 0 0 0 1 0");
+    replace_once(s, "Camera \"perspective\" \"float fov\" [ 90 ]",
+                 "Camera \"perspective\" \"float fov\" [ 77.319617 ]\nPixelFilter \"box\"");
+    replace_once(s, "\"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]",
+                 "\"integer xresolution\" [ 32 ] \"integer yresolution\" [ 32 ]");
+    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
+    replace_once(s, "Integrator \"path\" \"integer maxdepth\" [ 5 ]",
+                 "Integrator \"lightpath\" \"integer maxdepth\" [ 5 ]");
+    replace_once(s, "\"spectrum reflectance\" [ 360 0 830 0 ]", "\"spectrum reflectance\" [ 360 1 830 1 ]");
+    std::vector<std::vector<double>> reps;
+    for (int r = 0; r < kReplicas; ++r) {
+        SceneDesc d = parse_pbrt_string(s, "<test>", std::string(STERADIAN_SOURCE_DIR) + "/tests/data/cie171");
+        BuildOptions bo;
+        bo.spp_override = 256;
+        Scene sc = build_scene(d, bo);
+        Film film(sc.film);
+        RenderOptions ro;
+        ro.threads = 2;
+        ro.spp = 256;
+        ro.seed = 900 + uint64_t(r);
+        render(sc, film, ro);
+        reps.push_back(block_means(film.luminance(), 32, 8));
+    }
+    const BlockStats got = stats_of(reps);
+    double total = 0, expected_total = 0, se2 = 0, ms = 0;
+    for (int by = 0; by < 4; ++by)
+        for (int bx = 0; bx < 4; ++bx) {
+            double e = 0;
+            constexpr int kN = 64;
+            for (int j = 0; j < kN; ++j)
+                for (int i = 0; i < kN; ++i) {
+                    const double x = -1.6 + 0.8 * (bx + (i + 0.5) / kN);
+                    const double y = -1.6 + 0.8 * (by + (j + 0.5) / kN);
+                    const double c = 3 / std::sqrt(9 + x * x + y * y);
+                    e += 1000 * std::pow(c, 4) / 9 / kPi / (kN * kN);
+                }
+            const size_t b = size_t(by * 4 + bx);
+            const double z = (got.mean[b] - e) / got.se[b];
+            EXPECT_LT(std::abs(z), 6) << "block " << b << ": " << got.mean[b] << " vs " << e;
+            EXPECT_NEAR(got.mean[b], e, 0.05 * e) << "block " << b;
+            ms += z * z / 16;
+            total += got.mean[b];
+            expected_total += e;
+            se2 += sqr(got.se[b]);
+        }
+    EXPECT_LT(ms, 3.0);
+    EXPECT_NEAR(total, expected_total, 5 * std::sqrt(se2));
+    EXPECT_LT(5 * std::sqrt(se2), 0.02 * expected_total);
+}
+
+}  // namespace
+}  // namespace sr::test
