@@ -146,6 +146,28 @@ TEST(Bidirectional, PathLightpathAndBdptAgreeOnTheCornellBox) {
     EXPECT_LT(rel[rel.size() / 2], 0.02);
 }
 
+// The same with glass (BK7, dispersive), gold and silver spheres in the box: paths through
+// specular vertices, which only some strategies can make, and caustics. 16 x 16-pixel blocks.
+TEST(Bidirectional, PathAndBdptAgreeOnTheGlassAndMetalCornellBox) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) +
+                              "/tests/data/reference/cornell-box-glass-metal/scene.pbrt");
+    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
+                 "\"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]");
+    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
+    const size_t i = s.find("Integrator \"path\"");
+    ASSERT_NE(i, std::string::npos);
+    const size_t e = s.find('\n', i);
+    auto with = [&](const std::string& integ) { return s.substr(0, i) + integ + s.substr(e); };
+    std::vector<std::vector<double>> pr, br;
+    for (int r = 0; r < kReplicas; ++r) {
+        pr.push_back(block_means(
+            render_scene(with("Integrator \"path\" \"integer maxdepth\" [ 8 ]"), 32, 40 + r).y, 64, 16));
+        br.push_back(block_means(
+            render_scene(with("Integrator \"bdpt\" \"integer maxdepth\" [ 8 ]"), 8, 60 + r).y, 64, 16));
+    }
+    expect_agree(z_scores(stats_of(pr), stats_of(br)), "path vs bdpt, glass and metal");
+}
+
 // Each (s, t) strategy alone (weight 1) is an unbiased estimator of the contribution of the
 // paths of its length: in the Cornell box (a non-delta light, diffuse surfaces) all d + 2
 // strategies of length d can make every path of that length, so their unweighted sum is
