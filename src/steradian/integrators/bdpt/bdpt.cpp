@@ -445,7 +445,9 @@ public:
             if (is_light(pt)) c = le(pt, C[size_t(t - 2)]) * pt.beta;
         } else if (t == 1) {
             const Vertex& qs = L[size_t(s - 1)];
-            if (!connectible(qs) || (qs.type == VertexType::Light && qs.infinite)) return c;
+            // (A light vertex reaches the camera only from a surface: a point light, as in
+            // pbrt-v4's lightpath, and an infinite light's disk are not seen directly.)
+            if (!connectible(qs) || (qs.type == VertexType::Light && !qs.on_surface())) return c;
             auto cs = m_scene.camera->sample_wi(qs.p, u);
             if (!cs || !m_ctx.inside(cs->p_raster)) return c;
             p_raster = cs->p_raster;
