@@ -282,6 +282,15 @@ TEST(Bidirectional, RefusesOrthographicCamerasAndMedia) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("perspective"), std::string::npos) << e.what();
     }
+    std::string fog = cornell("Integrator \"lightpath\"", 16);
+    replace_once(fog, "WorldBegin", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" [ \"homogeneous\" ]");
+    try {
+        render_scene(fog, 1, 0);
+        ADD_FAILURE() << "a medium accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("bidirectional"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("<test>:"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace
