@@ -272,6 +272,29 @@ TEST(Bidirectional, SameImageOnOneAndTwoThreads) {
     }
 }
 
+// visualizeweights writes each strategy's weighted contributions as an image of its own; with
+// a box filter a strategy's contribution lands in the pixel its camera sample belongs to, so
+// the strategy images sum to the image itself (the same sums in another order).
+TEST(Bidirectional, WeightedStrategyImagesSumToTheImage) {
+    std::string text = cornell(
+        "Integrator \"bdpt\" \"integer maxdepth\" [ 3 ] \"bool visualizeweights\" true\n"
+        "PixelFilter \"box\"",
+        24);
+    const Img r = render_scene(text, 4, 3);
+    // Depth d has the d + 2 strategies with t >= 1, less (1, 1) at depth 0.
+    ASSERT_EQ(r.stats.strategy_images.size(), 1u + 3u + 4u + 5u);
+    EXPECT_EQ(r.stats.strategy_images[0].first, "bdpt_d00_s00_t02.exr");
+    std::vector<double> sum(r.rgb.data.size(), 0);
+    for (const auto& [name, img] : r.stats.strategy_images)
+        for (size_t i = 0; i < sum.size(); ++i) sum[i] += img.data[i];
+    double total = 0;
+    for (size_t i = 0; i < sum.size(); ++i) {
+        EXPECT_NEAR(sum[i], r.rgb.data[i], 1e-4 * std::abs(r.rgb.data[i]) + 1e-6) << i;
+        total += sum[i];
+    }
+    EXPECT_GT(total, 0);
+}
+
 // Scenes the bidirectional integrators cannot trace yet are refused with a clear error.
 TEST(Bidirectional, RefusesOrthographicCamerasAndMedia) {
     std::string ortho = cornell("Integrator \"bdpt\"", 16);
