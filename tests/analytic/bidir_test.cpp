@@ -36,8 +36,10 @@ std::string cornell(const std::string& integrator, int res) {
                      " ] \"integer yresolution\" [ " + std::to_string(res) + " ]");
     replace_once(s, "Integrator \"path\" \"integer maxdepth\" [ 16 ]", integrator);
     // Independent samples: the replicas' spread is then an honest standard error of each
-    // block (a low-discrepancy sampler's errors are not independent between pixels).
-    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
+    // block. (With the scene's zsobol sampler, BIDIR_ZSOBOL=1, the unweighted-strategy test
+    // fails at length 1 in the block left of the light: bdpt 0.0062 +- 0.0002 against the
+    // path tracer's 0.0097; not explained yet, see the branch's report.)
+    if (!std::getenv("BIDIR_ZSOBOL")) replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
     return s;
 }
 
