@@ -490,6 +490,13 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
             std::fprintf(stderr, "steradian: wrote %s (%dx%d)\n", out.c_str(), scene.film.width(),
                          scene.film.height());
     }
+    // bdpt's visualizestrategies / visualizeweights images, beside the first output.
+    for (const auto& [name, img] : st.strategy_images) {
+        const std::string path =
+            (std::filesystem::path(outs.front()).parent_path() / name).string();
+        sr::write_image(path, img, wo);
+        if (!quiet) std::fprintf(stderr, "steradian: wrote %s\n", path.c_str());
+    }
     if (!quiet) {
         std::fprintf(stderr, "  scene load      %.2f s\n", load_wall);
         std::fprintf(stderr, "  wall time       %.2f s\n", st.wall_seconds);

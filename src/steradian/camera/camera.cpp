@@ -84,6 +84,13 @@ PerspectiveCamera::PerspectiveCamera(const CameraParams& params, Float fov_deg) 
     Transform screen_from_camera = Transform::perspective(fov_deg, 1e-2, 1000);
     m_camera_from_raster =
         screen_from_camera.inverse() * raster_from_screen(m_p.screen, m_p.resolution).inverse();
+    // The film's area at distance 1: its corners' camera-space directions scaled to z = 1.
+    {
+        const Vec3d a = m_camera_from_raster.point(Vec3d(0, 0, 0));
+        const Vec3d b = m_camera_from_raster.point(
+            Vec3d(double(m_p.resolution.x), double(m_p.resolution.y), 0));
+        m_film_area = Float(std::abs((a.x / a.z - b.x / b.z) * (a.y / a.z - b.y / b.z)));
+    }
     // At raster z = 0 the perspective divide is a constant (the near plane), so the map from
     // raster (x, y) to a camera-space direction is affine; keep it and world-from-camera in
     // float for the per-sample path.
@@ -123,6 +130,62 @@ Ray PerspectiveCamera::generate_ray(Point2 p_film, Point2 u_lens) const {
             w[1][0] * dir.x + w[1][1] * dir.y + w[1][2] * dir.z,
             w[2][0] * dir.x + w[2][1] * dir.y + w[2][2] * dir.z);
     return Ray{ow, normalize(dw), kInfinity};
+}
+
+Float Camera::we(const Ray&, Point2*) const { return 0; }
+void Camera::pdf_we(const Ray&, Float& pdf_pos, Float& pdf_dir) const { pdf_pos = pdf_dir = 0; }
+std::optional<CameraWiSample> Camera::sample_wi(Point3, Point2) const { return std::nullopt; }
+
+Float PerspectiveCamera::project(const Ray& ray, Point2* p_raster) const {
+    const Vec3 d = normalize(Vec3(camera_from_world().vector(ray.d)));
+    const Float cos_theta = d.z;
+    if (!(cos_theta > 0)) return 0;
+    if (p_raster) {
+        // The ray's image: the point where it crosses the plane of focus (any point of a
+        // pinhole's ray), projected through the lens centre onto the film.
+        const Point3 o = camera_from_world().point(ray.o);
+        const Float z = m_p.lens_radius > 0 ? m_p.focal_distance : 1;
+        const Point3 focus = o + d * (z / cos_theta);
+        const Vec3d r = m_camera_from_raster.inverse().point(Vec3d(focus.x, focus.y, focus.z));
+        *p_raster = Point2(Float(r.x), Float(r.y));
+    }
+    return cos_theta;
+}
+
+Float PerspectiveCamera::we(const Ray& ray, Point2* p_raster) const {
+    const Float c = project(ray, p_raster);
+    if (c <= 0) return 0;
+    const Float lens_area = m_p.lens_radius > 0 ? kPi * sqr(m_p.lens_radius) : 1;
+    return 1 / (m_film_area * lens_area * sqr(sqr(c)));
+}
+
+void PerspectiveCamera::pdf_we(const Ray& ray, Float& pdf_pos, Float& pdf_dir) const {
+    const Float c = project(ray, nullptr);
+    if (c <= 0) {
+        pdf_pos = pdf_dir = 0;
+        return;
+    }
+    pdf_pos = m_p.lens_radius > 0 ? 1 / (kPi * sqr(m_p.lens_radius)) : 1;
+    pdf_dir = 1 / (m_film_area * c * c * c);
+}
+
+std::optional<CameraWiSample> PerspectiveCamera::sample_wi(Point3 p_ref, Point2 u) const {
+    const Point2 pl = sample_uniform_disk_concentric(u) * m_p.lens_radius;
+    CameraWiSample s;
+    s.p_lens = Point3(m_p.world_from_camera.point(Vec3d(pl.x, pl.y, 0)));
+    s.n_lens = forward();
+    Vec3 wi = s.p_lens - p_ref;
+    const Float dist = length(wi);
+    if (!(dist > 0)) return std::nullopt;
+    wi = wi / dist;
+    const Float lens_area = m_p.lens_radius > 0 ? kPi * sqr(m_p.lens_radius) : 1;
+    const Float cos_lens = absdot(s.n_lens, wi);
+    if (!(cos_lens > 0)) return std::nullopt;
+    s.pdf = dist * dist / (cos_lens * lens_area);
+    s.wi = wi;
+    s.we = we(Ray{s.p_lens, -wi, kInfinity}, &s.p_raster);
+    if (!(s.we > 0)) return std::nullopt;
+    return s;
 }
 
 Point3 PerspectiveCamera::position() const { return m_p.world_from_camera.point(Point3(0, 0, 0)); }

@@ -191,6 +191,41 @@ void Film::add(std::vector<PixelSum>& buffer, int x, int y, const std::array<dou
     px.weight += weight;
 }
 
+void Film::add_splat(std::vector<double>& buffer, Point2 p, const std::array<double, 3>& xyz,
+                     const Filter& filter) const {
+    // The pixels whose centres lie within the filter's radius of p (pbrt-v4's splat bounds).
+    const Vec2 r = filter.radius();
+    const Float px = p.x + 0.5f, py = p.y + 0.5f;
+    const int x0 = std::max(m_p.x0, int(std::floor(px - r.x)));
+    const int x1 = std::min(m_p.x1, int(std::floor(px + r.x)) + 1);
+    const int y0 = std::max(m_p.y0, int(std::floor(py - r.y)));
+    const int y1 = std::min(m_p.y1, int(std::floor(py + r.y)) + 1);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const Float w = filter.evaluate(Vec2(p.x - Float(x) - 0.5f, p.y - Float(y) - 0.5f));
+            if (w == 0) continue;
+            double* b = buffer.data() + (size_t(y - m_p.y0) * m_p.width() + (x - m_p.x0)) * 3;
+            for (int c = 0; c < 3; ++c) b[c] += double(w) * xyz[size_t(c)];
+        }
+}
+
+void Film::set_splat_sums(std::vector<double> sums) {
+    if (sums.size() != m_pixels.size() * 3)
+        throw Error(fmt::format("film: {} splat sums for a film of {} pixels", sums.size(),
+                                m_pixels.size()));
+    m_splats = std::move(sums);
+}
+
+std::array<double, 3> Film::pixel_sensor(size_t i) const {
+    const PixelSum& p = m_pixels[i];
+    std::array<double, 3> xyz{0, 0, 0};
+    if (p.weight != 0)
+        for (int c = 0; c < 3; ++c) xyz[size_t(c)] = p.xyz[c] / p.weight;
+    if (!m_splats.empty())
+        for (int c = 0; c < 3; ++c) xyz[size_t(c)] += m_splat_scale * m_splats[i * 3 + size_t(c)];
+    return xyz;
+}
+
 void Film::merge(const std::vector<PixelSum>& pass) {
     for (size_t i = 0; i < m_pixels.size(); ++i) {
         for (int c = 0; c < 3; ++c) m_pixels[i].xyz[c] += pass[i].xyz[c];
@@ -271,10 +306,7 @@ Image Film::rgb_image() const {
     img.data.resize(size_t(img.width) * img.height * 3);
     const auto& m = m_p.rgb_from_sensor;
     for (size_t i = 0; i < m_pixels.size(); ++i) {
-        const PixelSum& p = m_pixels[i];
-        double xyz[3] = {0, 0, 0};
-        if (p.weight != 0)
-            for (int c = 0; c < 3; ++c) xyz[c] = p.xyz[c] / p.weight;
+        const std::array<double, 3> xyz = pixel_sensor(i);
         for (int r = 0; r < 3; ++r)
             img.data[i * 3 + r] = float(m[r][0] * xyz[0] + m[r][1] * xyz[1] + m[r][2] * xyz[2]);
     }
@@ -285,8 +317,8 @@ std::vector<double> Film::luminance() const {
     std::vector<double> y(m_pixels.size());
     const auto& w = m_p.luminance_from_sensor;
     for (size_t i = 0; i < m_pixels.size(); ++i) {
-        const PixelSum& p = m_pixels[i];
-        y[i] = p.weight != 0 ? (w[0] * p.xyz[0] + w[1] * p.xyz[1] + w[2] * p.xyz[2]) / p.weight : 0;
+        const std::array<double, 3> xyz = pixel_sensor(i);
+        y[i] = w[0] * xyz[0] + w[1] * xyz[1] + w[2] * xyz[2];
     }
     return y;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "steradian/core/transform.h"
+#include "steradian/film/filter.h"
 #include "steradian/film/image_io.h"
 #include "steradian/spectrum/sampled.h"
 #include "steradian/spectrum/spectrum.h"
@@ -123,6 +124,25 @@ public:
     /// Replaces the accumulated sums (a pass continued from sums(), or a checkpoint's).
     /// Throws sr::Error unless `sums` has one entry per pixel.
     void set_sums(std::vector<PixelSum> sums);
+    /// Splats (pbrt-v4's Film::AddSplat): contributions of light paths that reach the camera
+    /// at an arbitrary film position p (raster space), kept apart from the pixel sums as
+    /// sensor values per pixel (3 doubles a pixel, rows of the crop window). add_splat adds
+    /// `xyz` times the filter's value at each pixel centre within its radius of p into
+    /// `buffer` (a splat_buffer(), or a copy of splat_sums()). The image is the pixel sums'
+    /// weighted mean plus splat_sums() * splat_scale / filter integral, splat_scale being 1 /
+    /// (samples per pixel) as pbrt-v4's.
+    void add_splat(std::vector<double>& buffer, Point2 p, const std::array<double, 3>& xyz,
+                   const Filter& filter) const;
+    std::vector<double> splat_buffer() const { return std::vector<double>(m_pixels.size() * 3); }
+    bool has_splats() const { return !m_splats.empty(); }
+    const std::vector<double>& splat_sums() const { return m_splats; }
+    /// Replaces the splat sums (throws sr::Error unless 3 per pixel). A render reduces the
+    /// splat buffers of its tiles in a fixed order and sets the result here; a distributed
+    /// render would reduce these sums across processes in a fixed order the same way.
+    void set_splat_sums(std::vector<double> sums);
+    /// The factor splat_sums() are scaled by in the image: 1 / (spp x filter integral).
+    void set_splat_scale(double scale) { m_splat_scale = scale; }
+    double splat_scale() const { return m_splat_scale; }
     /// The image (crop-window size) as linear sRGB.
     Image rgb_image() const;
     /// The film's output: rgb_image(), or for "gbuffer" and "spectral" films that and their
@@ -139,6 +159,10 @@ private:
     std::vector<double> m_aux;
     /// The sensitivities (and a zero) at each nm from kLambdaMin: one vector load per row.
     std::vector<Float4> m_cmf;
+    std::vector<double> m_splats;  ///< empty: no splats
+    double m_splat_scale = 0;
+    /// A pixel's sensor values: weighted mean plus scaled splats.
+    std::array<double, 3> pixel_sensor(size_t i) const;
 };
 
 }  // namespace sr

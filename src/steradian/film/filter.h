@@ -25,6 +25,9 @@ public:
     /// Filter value at offset p (pixels).
     Float evaluate(Vec2 p) const;
     FilterSample sample(Point2 u) const;
+    /// The filter's integral over its support (what sample()'s weight is for a positive
+    /// filter), by which pbrt-v4 divides splatted values.
+    Float integral() const { return m_integral[0] * m_integral[1]; }
 
 private:
     Float eval_1d(Float x, int axis) const;

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "steradian/film/film.h"
 
@@ -37,6 +39,10 @@ struct RenderOptions {
     /// Integrator "radiosity": the solution to gather from (render() solves the scene itself
     /// when null).
     const RadiositySolution* radiosity = nullptr;
+    /// For tests of "bdpt" (BidirContext): every strategy with weight 1, and only the paths
+    /// of this many scattering vertices (-1: all).
+    bool bidir_unweighted = false;
+    int bidir_only_depth = -1;
 };
 
 /// Largest pass, in samples per pixel: the film takes a pass at a time, so this bounds the
@@ -59,6 +65,9 @@ struct RenderStats {
     uint64_t rays = 0;         ///< closest-hit plus shadow rays
     uint64_t nonfinite = 0;    ///< NaN/Inf samples zeroed before reaching the film
     size_t peak_rss_bytes = 0;
+    /// bdpt's visualizestrategies / visualizeweights images, named as pbrt-v4 names them
+    /// (bdpt_dDD_sSS_tTT.exr).
+    std::vector<std::pair<std::string, Image>> strategy_images;
 };
 
 /// Renders `scene` into `film` with the scene's integrator. Throws sr::Error for

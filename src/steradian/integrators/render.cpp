@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "steradian/core/error.h"
+#include "steradian/integrators/bdpt/bdpt.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
 #include "steradian/integrators/radiosity/radiosity.h"
@@ -78,7 +79,94 @@ struct ThreadState {
     const RadiositySolution* radiosity = nullptr;
     /// Scratch space of render_packet (kept per thread: its hit records are large).
     std::unique_ptr<SamplePacket> packet = std::make_unique<SamplePacket>();
+    /// Scratch space of the bidirectional integrators' subpaths.
+    BdptScratchPtr bdpt = make_bdpt_scratch();
 };
+
+/// A splat as a tile records it: sensor values at a film position, for buffer `buffer` (0:
+/// the image; k + 1: strategy image k of visualizestrategies / visualizeweights).
+struct SplatRecord {
+    Point2 p;
+    int buffer;
+    std::array<double, 3> xyz;
+};
+
+/// The bidirectional integrators' splats of one tile, in the order its samples made them.
+class TileSplats final : public SplatSink {
+public:
+    TileSplats(const Film& film, uint64_t& nonfinite, std::vector<SplatRecord>& out, int max_depth,
+               bool weights)
+        : m_film(film), m_nonfinite(nonfinite), m_out(out), m_max_depth(max_depth),
+          m_weights(weights) {}
+    const SampledWavelengths* lambda = nullptr;
+    void splat(Point2 p, const SampledSpectrum& L) override { add(p, 0, L); }
+    void strategy(int s, int t, Point2 p, const SampledSpectrum& L, Float w) override {
+        const int depth = s + t - 2;
+        if (depth > m_max_depth) return;
+        // pbrt-v4's BufferIndex: strategies of one depth together, by s.
+        const int index = s + depth * (5 + depth) / 2;
+        // visualizeweights: the weighted contribution; visualizestrategies: the unweighted.
+        add(p, 1 + index, m_weights ? L * w : L);
+    }
+
+private:
+    void add(Point2 p, int buffer, const SampledSpectrum& L) {
+        std::array<double, 3> xyz{0, 0, 0};
+        bool finite = !L.has_nonfinite();
+        if (finite) {
+            xyz = m_film.to_sensor(L, *lambda);
+            finite = std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]);
+        }
+        if (!finite) {
+            ++m_nonfinite;
+            return;
+        }
+        if (xyz[0] == 0 && xyz[1] == 0 && xyz[2] == 0) return;
+        m_out.push_back({p, buffer, xyz});
+    }
+    const Film& m_film;
+    uint64_t& m_nonfinite;
+    std::vector<SplatRecord>& m_out;
+    int m_max_depth;
+    bool m_weights;
+};
+
+/// Samples [s0, s1) of `pixel` with a bidirectional integrator: the pixel's estimates
+/// (bdpt's t >= 2 strategies) go to `pass`, the splats to `splats`.
+void render_bidir_pixel(const Scene& scene, const BidirContext& ctx, bool lightpath,
+                        const Film& film, ThreadState& ts, Vec2i pixel, int s0, int s1,
+                        std::vector<PixelSum>& pass, TileSplats& splats) {
+    Sampler& sampler = *ts.sampler;
+    for (int i = s0; i < s1; ++i) {
+        sampler.start_pixel_sample(pixel, i);
+        const FilterSample fs = scene.filter->sample(sampler.get_pixel_2d());
+        SampledWavelengths lambda = film.sample_wavelengths(sampler.get_pixel_1d());
+        // The lens sample is drawn whether or not the camera has a lens (kCameraDimensions).
+        const Point2 u_lens = sampler.get_2d();
+        splats.lambda = &lambda;
+        ++ts.paths;
+        if (lightpath) {
+            lightpath_sample(ctx, *ts.bdpt, lambda, sampler, ts.counters, splats);
+            continue;
+        }
+        const Point2 p_film(Float(pixel.x) + 0.5f + fs.offset.x, Float(pixel.y) + 0.5f + fs.offset.y);
+        const Ray ray = scene.camera->generate_ray(
+            p_film, scene.camera->uses_lens_sample() ? u_lens : Point2(0.5f, 0.5f));
+        const SampledSpectrum L =
+            bdpt_li(ctx, *ts.bdpt, ray, p_film, lambda, sampler, ts.counters, splats);
+        std::array<double, 3> xyz{0, 0, 0};
+        bool finite = !L.has_nonfinite();
+        if (finite) {
+            xyz = film.to_sensor(L, lambda);
+            finite = std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]);
+        }
+        if (!finite) {
+            ++ts.nonfinite;
+            xyz = {0, 0, 0};
+        }
+        film.add(pass, pixel.x, pixel.y, xyz, fs.weight);
+    }
+}
 
 /// Samples [first, first + n) of `pixel` (n <= SamplePacket::kSize), added to `pass`.
 void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i pixel, int first,
@@ -215,13 +303,36 @@ int render_samples_per_pixel(const Scene& scene, const RenderOptions& opt) {
 }
 
 RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
-    if (scene.integrator.type != "path" && scene.integrator.type != "radiosity")
-        throw Error(fmt::format("integrator \"{}\" is not supported yet", scene.integrator.type));
+    const std::string& itype = scene.integrator.type;
+    const bool bidir = itype == "bdpt" || itype == "lightpath";
+    if (itype != "path" && itype != "radiosity" && !bidir)
+        throw Error(fmt::format("integrator \"{}\" is not supported yet", itype));
     std::unique_ptr<RadiositySolution> own_radiosity;
     const RadiositySolution* radiosity = opt.radiosity;
-    if (scene.integrator.type == "radiosity" && !radiosity) {
+    if (itype == "radiosity" && !radiosity) {
         own_radiosity = solve_radiosity(scene, scene.integrator.radiosity, opt.threads);
         radiosity = own_radiosity.get();
+    }
+    const std::string& itype = scene.integrator.type;
+    const bool bidir = itype == "bdpt" || itype == "lightpath";
+    if (itype != "path" && !bidir)
+        throw Error(fmt::format("integrator \"{}\" is not supported yet", itype));
+    std::optional<BidirContext> bctx;
+    if (bidir) {
+        check_bidir_scene(scene, itype.c_str());
+        if (opt.checkpoint || opt.resume)
+            throw Error(fmt::format("Integrator \"{}\": checkpoints are not supported yet for the "
+                                    "bidirectional integrators",
+                                    itype));
+        if (film.has_aux())
+            throw Error(fmt::format("Integrator \"{}\": only the \"rgb\" film is supported yet",
+                                    itype));
+        bctx.emplace(scene);
+        bctx->visualize =
+            itype == "bdpt" && (scene.integrator.visualize_strategies || scene.integrator.visualize_weights);
+        bctx->unweighted = opt.bidir_unweighted;
+        bctx->only_depth = opt.bidir_only_depth;
+        if (!film.has_splats()) film.set_splat_sums(film.splat_buffer());
     }
     const FilmParams& fp = film.params();
     const int total_spp = render_samples_per_pixel(scene, opt);
@@ -266,6 +377,18 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
 
     constexpr int kTile = 16;
     static_assert(kPassAlign % SamplePacket::kSize == 0);
+
+    // The bidirectional integrators' fixed tiles (their splats are reduced in tile order,
+    // so that the image does not depend on the number of threads) and strategy images.
+    std::vector<std::array<int, 4>> tiles;
+    for (int ty = fp.y0; ty < fp.y1; ty += kTile)
+        for (int tx = fp.x0; tx < fp.x1; tx += kTile)
+            tiles.push_back({tx, ty, std::min(tx + kTile, fp.x1), std::min(ty + kTile, fp.y1)});
+    const int n_strategy = bctx && bctx->visualize
+                               ? (1 + scene.integrator.max_depth) * (6 + scene.integrator.max_depth) / 2
+                               : 0;
+    std::vector<std::vector<double>> strategy_sums(size_t(n_strategy), film.splat_buffer());
+    const Filter box(FilterType::Box, Vec2(0.5f, 0.5f));
 
     // Each pass continues the film's sums (each pixel adds its samples in index order,
     // whatever the passes), and a pixel's samples are traced in packets that start at
@@ -321,6 +444,66 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         const double pass_t0 = elapsed();
         std::vector<PixelSum> pass = film.sums();
         std::vector<double> aux = film.aux_sums();
+        if (bidir) {
+            std::vector<double> splat_pass = film.splat_sums();
+            std::vector<std::vector<double>> strategy_pass = strategy_sums;
+            // Tiles in chunks: each tile's splats are kept in its own list while the chunk
+            // renders, then added in tile order (the splat reduction; a distributed render
+            // would sum the films' splat_sums() across processes in a fixed order the same way).
+            const size_t chunk = size_t(std::max(4, 4 * threads));
+            std::vector<std::vector<SplatRecord>> recs(chunk);
+            std::vector<uint64_t> rec_nonfinite(chunk);
+            for (size_t c0 = 0; c0 < tiles.size() && !out_of_time; c0 += chunk) {
+                const size_t c1 = std::min(tiles.size(), c0 + chunk);
+                arena.execute([&] {
+                    tbb::parallel_for(
+                        tbb::blocked_range<size_t>(c0, c1, 1),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                            for (size_t ti = r.begin(); ti < r.end(); ++ti) {
+                                auto& out = recs[ti - c0];
+                                out.clear();
+                                rec_nonfinite[ti - c0] = 0;
+                                if (out_of_time.load(std::memory_order_relaxed)) return;
+                                if (opt.time_budget > 0 && s0 > first_spp &&
+                                    elapsed() > opt.time_budget) {
+                                    out_of_time = true;
+                                    return;
+                                }
+                                ThreadState& ts = states.local();
+                                TileSplats sink(film, rec_nonfinite[ti - c0], out,
+                                                scene.integrator.max_depth,
+                                                scene.integrator.visualize_weights);
+                                const auto& tb = tiles[ti];
+                                for (int y = tb[1]; y < tb[3]; ++y)
+                                    for (int x = tb[0]; x < tb[2]; ++x) {
+                                        ts.sampler->start_pixel(Vec2i(x, y), s0, s1);
+                                        render_bidir_pixel(scene, *bctx, itype == "lightpath",
+                                                           film, ts, Vec2i(x, y), s0, s1, pass,
+                                                           sink);
+                                    }
+                                progress.add(uint64_t(tb[2] - tb[0]) * (tb[3] - tb[1]) *
+                                             (s1 - s0));
+                            }
+                        },
+                        tbb::simple_partitioner());
+                });
+                if (out_of_time) break;
+                for (size_t ti = c0; ti < c1; ++ti) {
+                    states.local().nonfinite += rec_nonfinite[ti - c0];
+                    for (const SplatRecord& rec : recs[ti - c0]) {
+                        if (rec.buffer == 0)
+                            film.add_splat(splat_pass, rec.p, rec.xyz, *scene.filter);
+                        else
+                            film.add_splat(strategy_pass[size_t(rec.buffer - 1)], rec.p, rec.xyz,
+                                           box);
+                    }
+                }
+            }
+            if (!out_of_time) {
+                film.set_splat_sums(std::move(splat_pass));
+                strategy_sums = std::move(strategy_pass);
+            }
+        } else
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range2d<int>(fp.y0, fp.y1, kTile, fp.x0, fp.x1, kTile),
@@ -353,6 +536,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         film.set_sums(std::move(pass));
         film.set_aux_sums(std::move(aux));
         done = s1;
+        if (bidir) film.set_splat_scale(1 / (double(done) * scene.filter->integral()));
         seconds_per_spp = (elapsed() - pass_t0) / double(s1 - s0);
         pass_size = std::min(pass_size * 2, kMaxPassSpp);
         const bool stopping = (opt.stop && opt.stop->load() && done < total_spp) ||
@@ -382,6 +566,17 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     stats.rays = so_far.rays;
     stats.nonfinite = so_far.nonfinite;
     stats.peak_rss_bytes = peak_rss_bytes();
+    // visualizestrategies / visualizeweights: one image per (s, t), named as pbrt-v4's.
+    for (int depth = 0; n_strategy > 0 && done > 0 && depth <= scene.integrator.max_depth; ++depth)
+        for (int s = 0; s <= depth + 2; ++s) {
+            const int t = depth + 2 - s;
+            if (t == 0 || (s == 1 && t == 1)) continue;
+            Film f(fp);
+            f.set_splat_sums(strategy_sums[size_t(s + depth * (5 + depth) / 2)]);
+            f.set_splat_scale(1 / double(done));
+            stats.strategy_images.push_back(
+                {fmt::format("bdpt_d{:02}_s{:02}_t{:02}.exr", depth, s, t), f.rgb_image()});
+        }
     return stats;
 }
 

@@ -229,6 +229,180 @@ SampledSpectrum infinite_le(const Light& light, const Ray& ray, const SampledWav
     return SampledSpectrum(0);
 }
 
+// ---- emission (light paths) -------------------------------------------------------------
+
+namespace {
+
+/// Spot falloff (pbrt-v4's smoothstep on cos theta), as SpotLight::sample_li computes it.
+Float spot_falloff(const SpotLight& l, Float cos_t) {
+    if (cos_t >= l.cos_falloff_start) return 1;
+    if (cos_t <= l.cos_falloff_end) return 0;
+    const Float t = (cos_t - l.cos_falloff_end) / (l.cos_falloff_start - l.cos_falloff_end);
+    return t * t * (3 - 2 * t);
+}
+
+/// Whether an area light emits from both faces.
+bool two_faced(const DiffuseAreaLight& a) {
+    return a.two_sided || (a.goniometric && a.goniometric->sphere_radius <= 0);
+}
+
+/// A ray of an infinite or distant light travelling in direction d: its origin on the disk
+/// of the scene's bounding radius perpendicular to d, on the side light comes from.
+Point3 disk_origin(Point3 center, Float radius, Vec3 d, Point2 u) {
+    const Frame f = Frame::from_z(d);
+    const Point2 pd = sample_uniform_disk_concentric(u);
+    return center - d * radius + (f.s * pd.x + f.t * pd.y) * radius;
+}
+
+}  // namespace
+
+bool light_can_emit(const Light& light) {
+    if (const auto* im = std::get_if<ImageInfiniteLight>(&light)) return !im->portal;
+    return true;
+}
+
+bool light_delta_position(const Light& light) {
+    return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light) ||
+           std::holds_alternative<GoniometricLight>(light);
+}
+
+bool light_delta_direction(const Light& light) { return std::holds_alternative<DistantLight>(light); }
+
+std::optional<LightLeSample> sample_le(const Light& light, Point2 u_pos, Point2 u_dir,
+                                       const SampledWavelengths& lambda) {
+    std::optional<LightLeSample> r;
+    LightLeSample s;
+    if (const auto* a = std::get_if<DiffuseAreaLight>(&light)) {
+        ShapeSample ss;
+        if (a->triangle) {
+            const auto b = sample_uniform_triangle(u_pos);
+            ss = a->triangle->point_at(b[0], b[1], b[2]);
+        } else if (a->sphere) {
+            ss = a->sphere->sample_area(u_pos);
+        } else {
+            ss = a->disk->sample_area(u_pos);
+        }
+        if (!(a->area > 0) || (a->alpha && a->masked(ss.p))) return r;
+        Normal3 n = ss.n;
+        Float face = 1;
+        Point2 ud = u_dir;
+        if (two_faced(*a)) {
+            face = 0.5f;
+            if (ud.x < 0.5f) {
+                ud.x = std::min(ud.x * 2, kOneMinusEpsilon);
+                n = -n;
+            } else {
+                ud.x = std::min((ud.x - 0.5f) * 2, kOneMinusEpsilon);
+            }
+        }
+        const Vec3 wl = sample_cosine_hemisphere(ud);
+        const Vec3 w = Frame::from_z(Vec3(n)).to_world(wl);
+        s.L = a->l(ss.n, w, lambda);
+        s.pdf_pos = 1 / a->area;
+        s.pdf_dir = face * cosine_hemisphere_pdf(wl.z);
+        s.n = n;  // the emitting face's normal
+        s.p_error = ss.p_error;
+        s.ray = Ray{offset_ray_origin(ss.p, ss.p_error, ss.n, w), w, kInfinity};
+        s.p = ss.p;
+    } else if (const auto* pl = std::get_if<PointLight>(&light)) {
+        s.ray = Ray{pl->p, sample_uniform_sphere(u_dir), kInfinity};
+        s.L = pl->intensity.sample(lambda) * pl->scale;
+        s.pdf_pos = 1;
+        s.pdf_dir = uniform_sphere_pdf();
+    } else if (const auto* gl = std::get_if<GoniometricLight>(&light)) {
+        const Vec3 w = sample_uniform_sphere(u_dir);
+        const Float i = gl->image ? gl->image->lookup(gl->profile.light_from_world.vector(w))
+                                  : gl->profile.intensity(w);
+        if (!(i > 0)) return r;
+        s.ray = Ray{gl->p, w, kInfinity};
+        s.L = gl->spectrum.sample(lambda) * (gl->scale * i);
+        s.pdf_pos = 1;
+        s.pdf_dir = uniform_sphere_pdf();
+    } else if (const auto* sl = std::get_if<SpotLight>(&light)) {
+        const Vec3 wl = sample_uniform_cone(u_dir, sl->cos_falloff_end);
+        const Float f = spot_falloff(*sl, wl.z);
+        if (f == 0) return r;
+        s.ray = Ray{sl->p, normalize(sl->light_from_world.inverse().vector(wl)), kInfinity};
+        s.L = sl->intensity.sample(lambda) * (sl->scale * f);
+        s.pdf_pos = 1;
+        s.pdf_dir = uniform_cone_pdf(sl->cos_falloff_end);
+    } else if (const auto* dl = std::get_if<DistantLight>(&light)) {
+        const Vec3 d = -dl->w_light;
+        s.ray = Ray{disk_origin(dl->scene_center, dl->scene_radius, d, u_pos), d, kInfinity};
+        s.L = dl->radiance.sample(lambda) * dl->scale;
+        s.pdf_pos = 1 / (kPi * sqr(dl->scene_radius));
+        s.pdf_dir = 1;
+    } else if (const auto* ul = std::get_if<UniformInfiniteLight>(&light)) {
+        const Vec3 d = -sample_uniform_sphere(u_dir);
+        s.ray = Ray{disk_origin(ul->scene_center, ul->scene_radius, d, u_pos), d, kInfinity};
+        s.L = ul->radiance.sample(lambda) * ul->scale;
+        s.pdf_pos = 1 / (kPi * sqr(ul->scene_radius));
+        s.pdf_dir = uniform_sphere_pdf();
+    } else if (const auto* im = std::get_if<ImageInfiniteLight>(&light)) {
+        if (im->portal) return r;
+        auto li = im->sample_li(LightSampleContext{im->scene_center, {0, 0, 0}, {0, 0, 0}}, u_dir,
+                                lambda, false);
+        if (!li || !(li->pdf_sa > 0)) return r;
+        const Vec3 d = -li->wi;
+        s.ray = Ray{disk_origin(im->scene_center, im->scene_radius, d, u_pos), d, kInfinity};
+        s.L = li->L;
+        s.pdf_pos = 1 / (kPi * sqr(im->scene_radius));
+        s.pdf_dir = li->pdf_sa;
+    }
+    if (!(s.pdf_pos > 0) || !(s.pdf_dir > 0) || s.L.is_zero()) return r;
+    if (!std::holds_alternative<DiffuseAreaLight>(light)) s.p = s.ray.o;
+    r = s;
+    return r;
+}
+
+SampledSpectrum light_emitted(const Light& light, Point3 p, Normal3 n, Vec3 w,
+                              const SampledWavelengths& lambda) {
+    if (const auto* a = std::get_if<DiffuseAreaLight>(&light)) {
+        if (a->alpha && a->masked(p)) return SampledSpectrum(0);
+        return a->l(n, w, lambda);
+    }
+    if (const auto* pl = std::get_if<PointLight>(&light))
+        return pl->intensity.sample(lambda) * pl->scale;
+    if (const auto* gl = std::get_if<GoniometricLight>(&light)) {
+        const Float i = gl->image ? gl->image->lookup(gl->profile.light_from_world.vector(w))
+                                  : gl->profile.intensity(w);
+        return i > 0 ? gl->spectrum.sample(lambda) * (gl->scale * i) : SampledSpectrum(0);
+    }
+    if (const auto* sl = std::get_if<SpotLight>(&light)) {
+        const Float f = spot_falloff(*sl, normalize(sl->light_from_world.vector(w)).z);
+        return sl->intensity.sample(lambda) * (sl->scale * f);
+    }
+    return SampledSpectrum(0);
+}
+
+void pdf_le(const Light& light, Point3 p, Normal3 n, Vec3 w, Float& pdf_pos, Float& pdf_dir) {
+    pdf_pos = pdf_dir = 0;
+    if (const auto* a = std::get_if<DiffuseAreaLight>(&light)) {
+        const Float c = dot(n, w);
+        if (!two_faced(*a) && c <= 0) return;
+        if (a->alpha && a->masked(p)) return;
+        pdf_pos = 1 / a->area;
+        pdf_dir = (two_faced(*a) ? 0.5f : 1.f) * cosine_hemisphere_pdf(std::abs(c));
+    } else if (std::holds_alternative<PointLight>(light) ||
+               std::holds_alternative<GoniometricLight>(light)) {
+        pdf_pos = 1;
+        pdf_dir = uniform_sphere_pdf();
+    } else if (const auto* sl = std::get_if<SpotLight>(&light)) {
+        pdf_pos = 1;
+        const Vec3 wl = normalize(sl->light_from_world.vector(w));
+        pdf_dir = wl.z > sl->cos_falloff_end ? uniform_cone_pdf(sl->cos_falloff_end) : 0;
+    } else if (const auto* dl = std::get_if<DistantLight>(&light)) {
+        pdf_pos = 1 / (kPi * sqr(dl->scene_radius));
+        pdf_dir = 0;  // a delta: no density another strategy could match
+    } else if (const auto* ul = std::get_if<UniformInfiniteLight>(&light)) {
+        pdf_pos = 1 / (kPi * sqr(ul->scene_radius));
+        pdf_dir = uniform_sphere_pdf();
+    } else if (const auto* im = std::get_if<ImageInfiniteLight>(&light)) {
+        pdf_pos = 1 / (kPi * sqr(im->scene_radius));
+        pdf_dir = im->pdf_li(LightSampleContext{p, {0, 0, 0}, {0, 0, 0}}, -w, false);
+    }
+}
+
 Float light_phi_y(const Light& light) {
     return std::visit([](const auto& l) { return l.phi_y(); }, light);
 }

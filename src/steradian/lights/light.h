@@ -313,4 +313,44 @@ SampledSpectrum infinite_le(const Light& light, const Ray& ray, const SampledWav
                             Float* pdf = nullptr, bool allow_incomplete_pdf = false);
 Float light_phi_y(const Light& light);
 
+/// A ray of emitted light (pbrt-v4's LightLeSample), for paths traced from the lights
+/// (integrators/bdpt/): it leaves ray.o in the unit direction ray.d carrying L (radiance of
+/// an area or infinite light, intensity of a point-like one, radiance of a distant one), with
+/// the densities of its origin (per unit area; 1 for a point) and of its direction (per unit
+/// solid angle; 1 for a distant light's one direction). n is the surface normal at ray.o for
+/// area lights and zero otherwise; an infinite or distant light's rays start on a disk of
+/// the scene's bounding radius facing the scene, outside it.
+struct LightLeSample {
+    SampledSpectrum L;
+    Ray ray;     ///< its origin offset off an area light's surface
+    Point3 p;    ///< the point on the light (ray.o before the offset)
+    Normal3 n{0, 0, 0};
+    Vec3 p_error{0, 0, 0};
+    Float pdf_pos = 0, pdf_dir = 0;
+};
+
+/// Whether sample_le() can emit from this light: every light but an environment map with a
+/// portal. (Callers refuse scenes with lights that cannot.)
+bool light_can_emit(const Light& light);
+/// A point light's position is a delta (point, spot, goniometric point); a distant light's
+/// direction is.
+bool light_delta_position(const Light& light);
+bool light_delta_direction(const Light& light);
+/// Samples an emitted ray: u_pos chooses the origin, u_dir the direction. Area lights choose
+/// the point uniformly by area and the direction cosine-weighted (a two-sided emitter, or a
+/// flat luminous opening, chooses its face by u_dir.x first); point and goniometric lights
+/// uniformly over the sphere; spot lights uniformly in their outer cone; infinite lights by
+/// their direction density (sample_li's, complete), then a point on the disk.
+std::optional<LightLeSample> sample_le(const Light& light, Point2 u_pos, Point2 u_dir,
+                                       const SampledWavelengths& lambda);
+/// What a light emits from its point p (an area light's face normal n) in the unit
+/// direction w: an area light's radiance, a point, spot or goniometric light's intensity;
+/// zero for distant and infinite lights (whose rays start nowhere a path can meet).
+SampledSpectrum light_emitted(const Light& light, Point3 p, Normal3 n, Vec3 w,
+                              const SampledWavelengths& lambda);
+/// The densities sample_le() has of emitting from p (normal n; ignored for lights without a
+/// surface) in the unit direction w (for infinite and distant lights, w is the direction
+/// light travels; pdf_pos is the disk's).
+void pdf_le(const Light& light, Point3 p, Normal3 n, Vec3 w, Float& pdf_pos, Float& pdf_dir);
+
 }  // namespace sr

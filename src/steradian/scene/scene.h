@@ -56,6 +56,8 @@ struct IntegratorSettings {
     int max_depth = 5;
     LightStrategy strategy = LightStrategy::Mis;
     bool regularize = false;
+    /// "bdpt": pbrt-v4's visualizestrategies / visualizeweights.
+    bool visualize_strategies = false, visualize_weights = false;
     std::string light_sampler = "bvh";  ///< pbrt-v4's names: "bvh" (its default), "power", "uniform"
     /// "volpath" in a scene with media: paths are traced through them (integrators/path/
     /// volpath.cpp); otherwise media are ignored.

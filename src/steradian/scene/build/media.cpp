@@ -317,6 +317,15 @@ void Builder::build_media() {
 }
 
 void Builder::use_volumetric_kernel(const std::string& what, const std::string& pbrt_path) {
+    if (m_s.integrator.type == "bdpt" || m_s.integrator.type == "lightpath") {
+        recorded([&] {
+            throw_unsupported(m_d.integrator.loc,
+                              "Integrator \"{}\": the scene has {}, which the bidirectional "
+                              "integrators do not support yet (use \"volpath\")",
+                              m_s.integrator.type, what);
+        });
+        return;
+    }
     if (!m_volpath)
         warning(m_d.integrator.loc,
                 fmt::format("the scene has {}: steradian's \"path\" renders them (as "

@@ -313,6 +313,26 @@ void Builder::build_integrator(const EntityDesc& e) {
             throw_error(e.loc, "\"residual\" must be in (0, 1)");
         if (r.direct_samples < 1 || r.direct_samples > 4096)
             throw_error(e.loc, "\"directsamples\" must be in 1..4096");
+    } else if (type == "bdpt" || type == "lightpath") {
+        // pbrt-v4's BDPTIntegrator::Create and LightPathIntegrator::Create (both with the
+        // power light sampler, and no "lightsampler" parameter).
+        is.max_depth = ps.get_int("maxdepth", 5);
+        if (type == "bdpt") {
+            is.visualize_strategies = ps.get_bool("visualizestrategies", false);
+            is.visualize_weights = ps.get_bool("visualizeweights", false);
+            is.regularize = ps.get_bool("regularize", false);
+            if ((is.visualize_strategies || is.visualize_weights) && is.max_depth > 5) {
+                warning(e.loc, "Integrator \"bdpt\": visualizestrategies/visualizeweights was "
+                               "enabled, limiting maxdepth to 5 (as pbrt-v4)");
+                is.max_depth = 5;
+            }
+        }
+        if (is.max_depth < 0) throw_error(e.loc, "maxdepth must be >= 0");
+        ps.check_unused(fmt::format("Integrator \"{}\"", type));
+        is.type = type;
+        is.light_sampler = "power";
+        m_s.integrator = is;
+        return;
     } else if (type == "simplepath") {
         is.max_depth = ps.get_int("maxdepth", 5);
         bool lights = ps.get_bool("samplelights", true);

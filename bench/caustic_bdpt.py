@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""bdpt against path on a caustic at equal CPU time (bench/scenes/caustic.pbrt: a small
+spherical light above a glass sphere on a diffuse floor).
+
+Renders the scene with Integrator "path" and "bdpt" (the scene's own line replaced), each
+RUNS times with different seeds, and measures each render's error against a converged
+reference as the RMS over 16 x 16-pixel blocks of the blocks' relative luminance errors
+(block mean - reference block mean) / reference block mean: transport noise counts, the few
+pixels on the edge of a directly seen light do not dominate it. The error at equal CPU time
+scales as 1 / sqrt(time) for both, so the ratio reported is
+    sqrt(MSE_bdpt x CPU_bdpt / (MSE_path x CPU_path)),
+bdpt's error over path's when both are given the same CPU time (< 0.5: bdpt's error is at
+most half). CPU seconds are the renderer's user + system time (getrusage of the child).
+
+A second figure leaves out the blocks where the light itself is seen, directly or through
+the glass (reflected or refracted): such pixels are lit by camera -> specular* -> light paths,
+which both integrators can only sample from the camera side (bdpt's s = 0 is the path
+tracer's BSDF sampling), so they measure samples per second, not transport. The blocks are
+found by rendering the scene with the diffuse surfaces black (only those paths remain) and
+leaving out each block where such a pixel exceeds the block's reference mean.
+
+The reference is a high-spp render given on the command line (e.g. bdpt at 512 spp with
+another seed); its own noise adds to both MSEs and pulls the ratio towards 1.
+
+Usage: bench/caustic_bdpt.py STERADIAN REFERENCE.exr [PATH_SPP] [BDPT_SPP] [RUNS]
+"""
+import pathlib
+import resource
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from noise_vs_pbrt import read_exr, read_pfm  # noqa: E402
+
+SCENE = pathlib.Path(__file__).parent / "scenes" / "caustic.pbrt"
+Y = np.array([0.2126, 0.7152, 0.0722])
+
+
+def blocks(lum, b=16):
+    h, w = lum.shape
+    return lum[: h // b * b, : w // b * b].reshape(h // b, b, w // b, b).mean(axis=(1, 3))
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    exe = str(pathlib.Path(sys.argv[1]).resolve())
+    ref = blocks(read_exr(sys.argv[2]) @ Y)
+    spp = {"path": int(sys.argv[3]) if len(sys.argv) > 3 else 64,
+           "bdpt": int(sys.argv[4]) if len(sys.argv) > 4 else 16}
+    runs = int(sys.argv[5]) if len(sys.argv) > 5 else 3
+    tmp = pathlib.Path(tempfile.mkdtemp())
+    text = SCENE.read_text()
+    # The blocks where the light is seen directly or through the glass.
+    black = tmp / "black.pbrt"
+    black.write_text(text.replace('Integrator "bdpt"', 'Integrator "path"')
+                     .replace('"rgb reflectance" [ 0.6 0.6 0.6 ]', '"rgb reflectance" [ 0 0 0 ]'))
+    subprocess.run([exe, "render", str(black), "-q", "--spp", "64", "-o", str(tmp / "black.pfm")],
+                   check=True)
+    seen = read_pfm(tmp / "black.pfm") @ Y
+    h, w = seen.shape
+    seen_max = seen[: h // 16 * 16, : w // 16 * 16].reshape(h // 16, 16, w // 16, 16).max(axis=(1, 3))
+    keep = seen_max <= ref
+    print(f"blocks: {ref.size}; without the light seen directly or through the glass: {keep.sum()}")
+    res, res_kept = {}, {}
+    for name in ("path", "bdpt"):
+        scene = tmp / f"{name}.pbrt"
+        scene.write_text(text.replace('Integrator "bdpt"', f'Integrator "{name}"'))
+        mses, secs, kept = [], [], []
+        for seed in range(runs):
+            out = tmp / f"{name}-{seed}.pfm"
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            subprocess.run([exe, "render", str(scene), "-q", "--spp", str(spp[name]), "--seed",
+                            str(seed), "--threads", "2", "-o", str(out)], check=True)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            secs.append((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
+            rel = (blocks(read_pfm(out) @ Y) - ref) / ref
+            mses.append(float(np.mean(rel * rel)))
+            kept.append(float(np.mean(rel[keep] ** 2)))
+        res[name] = (np.mean(mses), np.mean(secs))
+        res_kept[name] = (np.mean(kept), np.mean(secs))
+        print(f"{name:5s} {spp[name]:4d} spp: CPU {np.mean(secs):7.2f} s, RMS relative block error "
+              f"{np.sqrt(np.mean(mses)):.4f} (runs {', '.join(f'{np.sqrt(m):.4f}' for m in mses)}); "
+              f"without the light's blocks {np.sqrt(np.mean(kept)):.4f} "
+              f"(runs {', '.join(f'{np.sqrt(m):.4f}' for m in kept)})")
+    (mp, tp), (mb, tb) = res["path"], res["bdpt"]
+    print(f"error at equal CPU time, bdpt / path: {np.sqrt(mb * tb / (mp * tp)):.3f}")
+    (mp, tp), (mb, tb) = res_kept["path"], res_kept["bdpt"]
+    print(f"the same without the blocks where the light is seen: {np.sqrt(mb * tb / (mp * tp)):.3f}")
+
+
+if __name__ == "__main__":
+    main()
