@@ -313,10 +313,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         own_radiosity = solve_radiosity(scene, scene.integrator.radiosity, opt.threads);
         radiosity = own_radiosity.get();
     }
-    const std::string& itype = scene.integrator.type;
-    const bool bidir = itype == "bdpt" || itype == "lightpath";
-    if (itype != "path" && !bidir)
-        throw Error(fmt::format("integrator \"{}\" is not supported yet", itype));
     std::optional<BidirContext> bctx;
     if (bidir) {
         check_bidir_scene(scene, itype.c_str());
