@@ -35,7 +35,7 @@ def luminance(rgb):
 
 # %% The tall block gets its own grey material, swept from dark to white. Its front face
 # covers this region of the 512 x 512 image (rows, columns).
-region = (slice(200, 330), slice(130, 200))
+region = (slice(200, 330), slice(170, 250))
 reflectances = np.linspace(0.1, 0.9, 5)
 means = []
 for rho in reflectances:
