@@ -13,6 +13,7 @@
 namespace sr {
 
 class Scene;
+class WorkCoordinator;
 
 struct RenderOptions {
     int spp = 0;               ///< samples per pixel; <= 0: the scene's Sampler value
@@ -33,6 +34,10 @@ struct RenderOptions {
     /// Resuming: the film already holds samples [0, resume->spp) of every pixel (a
     /// checkpoint's sums, Film::set_sums), and `resume` the statistics of that work.
     const struct RenderStats* resume = nullptr;
+    /// Distributed rendering (integrators/distributed.h): when set and there are other
+    /// processes, each pass's tiles are shared with them (this process is the coordinator;
+    /// they run serve_work()). The image is the same bit for bit.
+    WorkCoordinator* distribute = nullptr;
 };
 
 /// Largest pass, in samples per pixel: the film takes a pass at a time, so this bounds the

@@ -28,6 +28,7 @@ namespace sr {
 
 class Scene;
 class Sampler;
+class WorkCoordinator;
 struct PathCounters;
 
 /// A measurement's state between two batches of its work: what a checkpoint saves. Values
@@ -69,6 +70,10 @@ struct MeasureOptions {
     int first_samples = 32;   ///< samples per replica in the pilot round (power of two)
     /// Samples per replica beyond which a value stops unconverged (a power of two).
     int max_samples = 1 << 22;
+    /// Distributed measuring (integrators/distributed.h): when set and there are other
+    /// processes, each batch's (value, replica) items are shared with them. The readings are
+    /// the same bit for bit.
+    WorkCoordinator* distribute = nullptr;
 };
 
 struct MeterReading {
