@@ -835,7 +835,9 @@ int main(int argc, char** argv) {
         }
         return app.exit(e);
     }
-    install_signal_handlers();
+    // Under mpirun a signal ends every process (Open MPI forwards it, then kills the job):
+    // no process could finish a pass, so none says it will (docs/distributed.md).
+    if (g_size <= 1) install_signal_handlers();
     try {
         if (*render) {
             if (ra.scene.empty() && ra.resume.empty())
