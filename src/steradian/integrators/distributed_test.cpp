@@ -10,6 +10,7 @@
 #include <mutex>
 #include <thread>
 
+#include "steradian/core/math.h"
 #include "steradian/film/film.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/measure.h"
@@ -151,6 +152,52 @@ TEST(Distributed, MeasureEqualsOneProcessBitForBit) {
             EXPECT_EQ(many.paths, one.paths);
         });
     }
+}
+
+TEST(Distributed, ReduceSeesEveryItemInItemOrder) {
+    // The splat hook: whoever computed an item, Phase::reduce is called for items 0, 1, ...
+    // once the phase is complete, so an order-dependent sum is the one-process sum.
+    Hub hub(3);
+    const JobHandler square = [](ByteReader&, size_t count, ByteReader& in, ByteWriter& out) {
+        for (size_t j = 0; j < count; ++j) {
+            const uint64_t item = in.get<uint64_t>();
+            const double x = in.get<double>();
+            out.put(item);
+            out.put(x * x);
+        }
+    };
+    std::vector<std::thread> workers;
+    for (int w = 1; w <= 2; ++w)
+        workers.emplace_back([&hub, &square, w] {
+            LocalMessenger m(hub, w);
+            serve_work(m, {nullptr, nullptr, square}, 3);
+        });
+    LocalMessenger m(hub, 0);
+    WorkCoordinator coord(m);
+    const size_t n = 200;
+    std::vector<double> terms(n, -1);
+    std::vector<size_t> order;
+    WorkCoordinator::Phase ph;
+    ph.kind = 2;
+    ph.items = n;
+    ph.input = [](size_t i, ByteWriter& bw) { bw.put(0.1 * double(i)); };
+    ph.output = [&](size_t i, ByteReader& br) { terms[i] = br.get<double>(); };
+    ph.local = [&](const std::function<std::optional<size_t>()>& claim) {
+        while (const std::optional<size_t> i = claim()) terms[*i] = sqr(0.1 * double(*i));
+    };
+    double sum = 0;
+    ph.reduce = [&](size_t i) {
+        order.push_back(i);
+        sum += terms[i];
+    };
+    ASSERT_TRUE(coord.run(ph));
+    coord.finish();
+    for (std::thread& t : workers) t.join();
+    double expected = 0;
+    for (size_t i = 0; i < n; ++i) expected += sqr(0.1 * double(i));
+    ASSERT_EQ(order.size(), n);
+    for (size_t i = 0; i < n; ++i) EXPECT_EQ(order[i], i);
+    EXPECT_EQ(sum, expected);  // the same terms added in the same order: the same bits
 }
 
 TEST(Distributed, ByteReaderRefusesATruncatedMessage) {
