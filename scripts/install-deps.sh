@@ -22,6 +22,7 @@ packages=(
   llvm-14                      # llvm-symbolizer: source lines in the fuzzers' stack traces
   pybind11-dev python3-dev     # the Python module (src/python/, docs/python.md)
   python3-numpy python3-pytest # its arrays, and its tests (tests/python/, ctest python)
+  libopenmpi-dev openmpi-bin   # steradian-mpi and its test (docs/distributed.md, ctest mpi)
 )
 
 SUDO=""

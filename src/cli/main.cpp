@@ -1,5 +1,7 @@
 // steradian command line: `steradian render SCENE.pbrt [options]`,
 // `steradian measure SCENE.pbrt [options]`, `steradian check SCENE.pbrt... [--json FILE]`.
+// Built a second time with STERADIAN_MPI as `steradian-mpi`, which shares renders and
+// measurements among the processes of `mpirun` (docs/distributed.md).
 #include <signal.h>
 #include <unistd.h>
 
@@ -16,6 +18,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
+#include <sstream>
+#include <thread>
 
 #include "steradian/core/error.h"
 #include "steradian/core/error_list.h"
@@ -24,11 +28,15 @@
 #include "steradian/film/film.h"
 #include "steradian/film/image_io.h"
 #include "steradian/integrators/checkpoint.h"
+#include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/measure.h"
 #include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
+#ifdef STERADIAN_MPI
+#include "mpi/mpi_session.h"
+#endif
 
 namespace {
 
@@ -105,6 +113,72 @@ int exit_status() { return g_signal != 0 ? 128 + int(g_signal) : 0; }
 /// The most worker threads accepted: far more than any machine's cores, few enough that
 /// the thread pool and the per-thread state always fit.
 constexpr int kMaxThreads = 1024;
+
+/// The processes of `steradian-mpi` under mpirun (docs/distributed.md); without MPI, or run
+/// alone, there is one.
+#ifdef STERADIAN_MPI
+sr::mpi::Session* g_mpi = nullptr;
+#endif
+int g_rank = 0, g_size = 1;
+/// Set once every process has loaded the scene: from then on an error on one process ends
+/// the job (a worker aborts it; the coordinator ends the workers' session and fails).
+[[maybe_unused]] bool g_dist_started = false;
+
+/// A process other than the coordinator (process 0) of a distributed run.
+bool is_worker() { return g_rank != 0; }
+
+/// Under mpirun, once the scene is loaded (and the outputs checked): every process agrees
+/// that every other one loaded it too (an error elsewhere: this one returns 1 quietly, the
+/// failing ones say why), and that all run the same executable on the same input files
+/// (a node with another build or a stale copy of a file would compute another image). Then
+/// the workers compute what the coordinator hands out until it is done. Returns the exit
+/// status for a worker, or -1 on the coordinator (or alone), which goes on.
+int start_distributed(const sr::Scene& scene, int threads) {
+#ifdef STERADIAN_MPI
+    if (g_size <= 1) return -1;
+    if (g_mpi->count_failed(false) > 0) return 1;
+    const std::string mine = sr::executable_id() + " " + sr::inputs_digest();
+    const std::string root = g_mpi->broadcast(mine);
+    const bool differs = root != mine;
+    const int n = g_mpi->count_failed(differs);
+    if (differs)
+        std::fprintf(stderr,
+                     "error (process %d of %d): another executable or other input files than "
+                     "process 0's (executable and file hashes differ): every process must run the "
+                     "same build on the same scene files (docs/distributed.md)\n",
+                     g_rank, g_size);
+    if (n > 0) return 1;
+    g_dist_started = true;
+    if (!is_worker()) return -1;
+    const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+    sr::serve_work(*g_mpi,
+                   {sr::render_job_handler(scene, threads), sr::measure_job_handler(scene, threads)},
+                   2 * nthreads);
+    return 0;
+#else
+    (void)scene;
+    (void)threads;
+    return -1;
+#endif
+}
+
+/// The coordinator's side of the processes (null alone).
+std::optional<sr::WorkCoordinator> make_coordinator() {
+#ifdef STERADIAN_MPI
+    if (g_size > 1 && !is_worker()) return std::optional<sr::WorkCoordinator>(std::in_place, *g_mpi);
+#endif
+    return std::nullopt;
+}
+
+/// After the work: the CPU time of every process, when there are several.
+void print_distributed_summary(std::optional<sr::WorkCoordinator>& coord, bool quiet) {
+    if (!coord) return;
+    coord->finish();
+    if (!quiet)
+        std::fprintf(stderr, "  processes       %d; CPU time of all %.2f s (this one's %.2f s)\n",
+                     g_size, coord->workers_cpu_seconds() + sr::process_cpu_seconds(),
+                     sr::process_cpu_seconds());
+}
 
 /// The readings as a table on stdout.
 void print_readings(const sr::MeasureResult& r) {
@@ -255,16 +329,26 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     if (scene.meters.empty())
         throw sr::Error(fmt::format("{}: the scene has no Meter directives", scene_path));
     // Every output is checked before the measurement, not found unwritable after it.
-    if (!a.json.empty()) sr::check_output_path(a.json, "--json");
-    if (!a.csv.empty()) sr::check_output_path(a.csv, "--csv");
-    if (!a.falsecolor.empty()) sr::check_image_output(a.falsecolor);
-    if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
-    if (!a.radiosity_mesh.empty()) sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
+    if (!is_worker()) {
+        if (!a.json.empty()) sr::check_output_path(a.json, "--json");
+        if (!a.csv.empty()) sr::check_output_path(a.csv, "--csv");
+        if (!a.falsecolor.empty()) sr::check_image_output(a.falsecolor);
+        if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
+        if (!a.radiosity_mesh.empty())
+            sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
+    }
+    if (const int status = start_distributed(scene, a.threads); status >= 0) return status;
+    std::optional<sr::WorkCoordinator> coord = make_coordinator();
+    const bool distributed = coord && coord->workers() > 0;
     // The method: auto takes radiosity where it models every surface exactly (or the scene
-    // asks for it), and says why.
+    // asks for it), and says why. A distributed measurement uses the path tracer (the
+    // radiosity method is not distributed yet).
     std::string method = a.method, reason = "--method " + a.method, why;
     if (method == "auto") {
-        if (scene.integrator.type == "radiosity") {
+        if (distributed) {
+            method = "path";
+            reason = "auto: the radiosity method is not distributed yet";
+        } else if (scene.integrator.type == "radiosity") {
             method = "radiosity";
             reason = "auto: the scene's Integrator is \"radiosity\"";
         } else if (sr::radiosity_models_exactly(scene, &why)) {
@@ -275,6 +359,9 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
             reason = "auto: " + why;
         }
     }
+    if (distributed && method == "radiosity")
+        throw sr::Error("--method radiosity: the radiosity method is not distributed yet (run "
+                        "steradian, or steradian-mpi without mpirun)");
     if (!a.radiosity_mesh.empty() && method != "radiosity")
         throw sr::Error(fmt::format("--radiosity-mesh: the method is {} ({}), not radiosity",
                                     method, reason));
@@ -291,6 +378,7 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     mo.threads = a.threads;
     mo.seed = a.seed;
     mo.stop = &g_stop;
+    mo.distribute = coord ? &*coord : nullptr;
     std::string exe, digest;
     if (resume || !a.checkpoint.empty()) {
         exe = sr::executable_id();
@@ -332,6 +420,7 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     if (!a.csv.empty()) sr::write_text_file(a.csv, sr::meters_csv(r));
     if (!a.falsecolor.empty()) write_grid_false_color(r, a.falsecolor, a.quiet);
     if (!a.quiet) print_measure_summary(r);
+    print_distributed_summary(coord, a.quiet);
     if (r.interrupted)
         std::fprintf(stderr, "steradian: interrupted: the readings above are those reached\n");
     if (!a.checkpoint.empty() && !r.all_converged && r.time_limited)
@@ -417,22 +506,31 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     std::vector<std::string>& outs = a.outs;
     if (outs.empty()) outs.push_back(scene.film.filename);
     // Every output is checked before rendering, not found unwritable after it.
-    for (const std::string& out : outs) sr::check_image_output(out, scene.film.output_channels());
-    if (!a.luminance_out.empty()) sr::check_image_output(a.luminance_out, 1);
-    if (!a.falsecolor_out.empty()) sr::check_image_output(a.falsecolor_out);
-    if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
     std::filesystem::path meters_json(outs.front());
     meters_json.replace_extension(".meters.json");
-    if (!scene.meters.empty()) sr::check_output_path(meters_json.string(), "the meters' readings");
-    if (!a.radiosity_mesh.empty()) {
-        if (scene.integrator.type != "radiosity")
-            throw sr::Error(fmt::format("--radiosity-mesh: the scene's integrator is \"{}\", not "
-                                        "\"radiosity\"", scene.integrator.type));
-        sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
+    if (!is_worker()) {
+        for (const std::string& out : outs) sr::check_image_output(out, scene.film.output_channels());
+        if (!a.luminance_out.empty()) sr::check_image_output(a.luminance_out, 1);
+        if (!a.falsecolor_out.empty()) sr::check_image_output(a.falsecolor_out);
+        if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
+        if (!scene.meters.empty())
+            sr::check_output_path(meters_json.string(), "the meters' readings");
+        if (!a.radiosity_mesh.empty()) {
+            if (scene.integrator.type != "radiosity")
+                throw sr::Error(fmt::format("--radiosity-mesh: the scene's integrator is \"{}\", "
+                                            "not \"radiosity\"", scene.integrator.type));
+            sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
+        }
     }
+    if (const int status = start_distributed(scene, a.threads); status >= 0) return status;
+    std::optional<sr::WorkCoordinator> coord = make_coordinator();
     std::unique_ptr<sr::RadiositySolution> radiosity;
-    if (scene.integrator.type == "radiosity")
+    if (scene.integrator.type == "radiosity") {
+        if (coord && coord->workers() > 0)
+            throw sr::Error("Integrator \"radiosity\" is not distributed yet (run steradian, or "
+                            "steradian-mpi without mpirun)");
         radiosity = solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet);
+    }
     sr::Film film(scene.film);
     sr::RenderOptions ro;
     ro.spp = a.spp;
@@ -442,6 +540,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     ro.progress = !a.quiet && isatty(STDERR_FILENO);
     ro.stop = &g_stop;
     ro.radiosity = radiosity.get();
+    ro.distribute = coord ? &*coord : nullptr;
     const int total_spp = sr::render_samples_per_pixel(scene, ro);
     std::string exe, digest;
     if (resume || !a.checkpoint.empty()) {
@@ -549,6 +648,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
         mo.threads = threads;
         mo.seed = seed;
         mo.stop = &g_stop;
+        mo.distribute = coord ? &*coord : nullptr;
         if (time_budget > 0) {
             // The budget covers the meters too: they get what the image left (at least their
             // pilot round, so that every reading has a standard error).
@@ -563,6 +663,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
             print_measure_summary(r);
         }
     }
+    print_distributed_summary(coord, quiet);
     return exit_status();
 }
 
@@ -709,7 +810,35 @@ int run_check(const CheckArgs& a) {
 
 }  // namespace
 
+/// Reports an error and gives the exit status. Distributed, a load error is reported once
+/// (by process 0 when every process has it, else by each process that has it, with its
+/// number), and a worker's error once the work has started ends the job.
+int fail(const std::string& what) {
+    std::string prefix = "error: ";
+#ifdef STERADIAN_MPI
+    if (g_size > 1) {
+        if (!g_dist_started) {
+            const int n = g_mpi->count_failed(true);
+            if (n == g_size && is_worker()) return 1;
+            if (n < g_size) prefix = fmt::format("error (process {} of {}): ", g_rank, g_size);
+        } else if (is_worker()) {
+            std::fprintf(stderr, "error (process %d of %d): %s\n", g_rank, g_size,
+                         sr::terminal_safe(what).c_str());
+            g_mpi->abort(1);
+        }
+    }
+#endif
+    std::fprintf(stderr, "%s%s\n", prefix.c_str(), sr::terminal_safe(what).c_str());
+    return 1;
+}
+
 int main(int argc, char** argv) {
+#ifdef STERADIAN_MPI
+    sr::mpi::Session mpi(argc, argv);
+    g_mpi = &mpi;
+    g_rank = mpi.rank();
+    g_size = mpi.size();
+#endif
     CLI::App app{"steradian: a spectral, physically based renderer and lighting simulator"};
     app.set_version_flag("--version", std::string("steradian ") + STERADIAN_VERSION);
     app.require_subcommand(1);
@@ -810,9 +939,15 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
+        if (is_worker()) {  // process 0 says it
+            std::ostringstream sink;
+            return app.exit(e, sink, sink);
+        }
         return app.exit(e);
     }
-    install_signal_handlers();
+    // Under mpirun a signal ends every process (Open MPI forwards it, then kills the job):
+    // no process could finish a pass, so none says it will (docs/distributed.md).
+    if (g_size <= 1) install_signal_handlers();
     try {
         if (*render) {
             if (ra.scene.empty() && ra.resume.empty())
@@ -824,13 +959,9 @@ int main(int argc, char** argv) {
                 throw sr::Error("measure: a scene file is required (or --resume CHECKPOINT)");
             return run_measure(margs, [&](const char* name) { return measure->count(name) > 0; });
         }
-        if (*check) return run_check(ca);
-    } catch (const sr::Error& e) {
-        std::fprintf(stderr, "error: %s\n", sr::terminal_safe(e.what()).c_str());
-        return 1;
+        if (*check) return is_worker() ? 0 : run_check(ca);  // not shared: process 0 checks
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "error: %s\n", sr::terminal_safe(e.what()).c_str());
-        return 1;
+        return fail(e.what());
     }
     return 0;
 }

@@ -16,6 +16,7 @@ namespace sr {
 
 class Scene;
 class RadiositySolution;
+class WorkCoordinator;
 
 struct RenderOptions {
     int spp = 0;               ///< samples per pixel; <= 0: the scene's Sampler value
@@ -43,6 +44,10 @@ struct RenderOptions {
     /// of this many scattering vertices (-1: all).
     bool bidir_unweighted = false;
     int bidir_only_depth = -1;
+    /// Distributed rendering (integrators/distributed.h): when set and there are other
+    /// processes, each pass's tiles are shared with them (this process is the coordinator;
+    /// they run serve_work()). The image is the same bit for bit.
+    WorkCoordinator* distribute = nullptr;
 };
 
 /// Largest pass, in samples per pixel: the film takes a pass at a time, so this bounds the

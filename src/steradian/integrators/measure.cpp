@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "steradian/bsdf/bsdf.h"
+#include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
 #include "steradian/integrators/radiosity/radiosity.h"
@@ -79,6 +80,60 @@ double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& s
     return kPi * weigh(m, L, lambda);
 }
 
+namespace {
+
+/// A value: point `point` of meter `meter`. Values are numbered meter by meter.
+struct Value {
+    int meter;
+    size_t point;
+};
+
+std::vector<Value> values_of(const Scene& scene) {
+    std::vector<Value> values;
+    for (size_t mi = 0; mi < scene.meters.size(); ++mi)
+        for (size_t k = 0; k < scene.meters[mi].points.size(); ++k) values.push_back({int(mi), k});
+    return values;
+}
+
+struct ReplicaResult {
+    bool done = false;  ///< false: abandoned (`stop`)
+    double mean = 0;
+    uint64_t paths = 0, rays = 0, nonfinite = 0;
+};
+
+/// Replica `replica` of value `vi` in the round keyed by `round_seed`: the mean of n samples.
+/// `stop` (may be null) is polled every 256 samples; when it says so the replica is abandoned.
+ReplicaResult replica_mean(const Scene& scene, const std::vector<Value>& values, size_t vi,
+                           int replica, int n, uint64_t round_seed,
+                           const std::function<bool()>* stop,
+                           const RadiositySolution* radiosity = nullptr) {
+    const Value& val = values[vi];
+    const Meter& m = scene.meters[size_t(val.meter)];
+    PaddedSobolSampler sampler(n, round_seed);
+    PathCounters counters;
+    ReplicaResult r;
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+        if (stop && (i & 255) == 0 && (*stop)()) return r;
+        sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
+        double v = radiosity ? radiosity_meter_sample(scene, *radiosity, m, val.point, sampler,
+                                                      counters)
+                             : meter_sample(scene, m, val.point, sampler, counters);
+        if (!std::isfinite(v)) {
+            ++r.nonfinite;
+            v = 0;
+        }
+        sum += v;
+    }
+    r.done = true;
+    r.mean = sum / n;
+    r.paths = uint64_t(n);
+    r.rays = counters.rays;
+    return r;
+}
+
+}  // namespace
+
 MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
@@ -100,16 +155,11 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                               {"solve_seconds", rs.seconds}};
     }
     // Flatten (meter, point) into value indices.
-    struct Value {
-        int meter;
-        size_t point;
-    };
-    std::vector<Value> values;
+    const std::vector<Value> values = values_of(scene);
     for (size_t mi = 0; mi < scene.meters.size(); ++mi) {
         MeterReading r;
         r.meter = scene.meters[mi];
         res.readings.push_back(std::move(r));
-        for (size_t k = 0; k < scene.meters[mi].points.size(); ++k) values.push_back({int(mi), k});
     }
     const size_t nv = values.size();
     const int R = opt.replicas;
@@ -150,6 +200,14 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_arena arena(threads);
+    WorkCoordinator* const coord =
+        opt.distribute && opt.distribute->workers() > 0 ? opt.distribute : nullptr;
+    // Items computed at once: this process's threads, and as many per other process (an
+    // estimate, for sizing the batches between checkpoints).
+    const int slots = threads * (coord ? coord->workers() + 1 : 1);
+    if (coord && opt.radiosity)
+        throw Error("measure: the radiosity method is not distributed yet (run steradian, or "
+                    "steradian-mpi without mpirun)");
 
     const int first_round = st.round;  // this run's first round always completes
     double seconds_per_sample = 0;      // wall, of the batches so far
@@ -184,55 +242,89 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         std::vector<size_t> todo;
         for (size_t item = 0; item < items; ++item)
             if (!st.item_done[item]) todo.push_back(item);
-        size_t batch = opt.checkpoint ? size_t(2 * threads) : todo.size();
+        size_t batch = opt.checkpoint ? size_t(2 * slots) : todo.size();
+        const std::function<bool()> stop_check = [&] {
+            return abandoned.load(std::memory_order_relaxed) || must_stop();
+        };
         for (size_t b0 = 0; b0 < todo.size() && !abandoned;) {
             if (opt.checkpoint && seconds_per_sample > 0) {
                 const double per_item = seconds_per_sample * double(st.next_n[pending[todo[b0] / R]]);
-                batch = size_t(std::clamp(std::max(opt.checkpoint_every, 0.5) * threads / per_item,
+                batch = size_t(std::clamp(std::max(opt.checkpoint_every, 0.5) * slots / per_item,
                                           1.0, double(todo.size())));
             }
             const size_t b1 = std::min(todo.size(), b0 + batch);
             const double batch_t0 = elapsed();
             std::atomic<uint64_t> paths{0}, rays{0}, nonfinite{0};
-            arena.execute([&] {
-                tbb::parallel_for(b0, b1, [&](size_t t) {
-                    const size_t item = todo[t];
-                    const size_t vi = pending[item / R];
-                    const Value& val = values[vi];
-                    const int replica = int(item % R);
-                    const Meter& m = scene.meters[val.meter];
-                    const int n = int(st.next_n[vi]);
-                    PaddedSobolSampler sampler(n, round_seed);
-                    PathCounters counters;
-                    uint64_t bad = 0;
-                    double sum = 0;
-                    for (int i = 0; i < n; ++i) {
-                        if (may_abandon && (i & 255) == 0 &&
-                            (abandoned.load(std::memory_order_relaxed) || must_stop())) {
-                            abandoned = true;
-                            return;
-                        }
-                        sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
-                        double v = opt.radiosity ? radiosity_meter_sample(scene, *opt.radiosity, m,
-                                                                          val.point, sampler, counters)
-                                                 : meter_sample(scene, m, val.point, sampler, counters);
-                        if (!std::isfinite(v)) {
-                            ++bad;
-                            v = 0;
-                        }
-                        sum += v;
-                    }
-                    st.replica_mean[item] = sum / n;
-                    st.item_done[item] = 1;
-                    paths += uint64_t(n);
-                    rays += counters.rays;
-                    nonfinite += bad;
+            auto take = [&](size_t item, const ReplicaResult& r) {
+                if (!r.done) {
+                    abandoned = true;
+                    return;
+                }
+                st.replica_mean[item] = r.mean;
+                st.item_done[item] = 1;
+                paths += r.paths;
+                rays += r.rays;
+                nonfinite += r.nonfinite;
+            };
+            auto compute = [&](size_t item) {
+                take(item, replica_mean(scene, values, pending[item / R], int(item % R),
+                                        int(st.next_n[pending[item / R]]), round_seed,
+                                        may_abandon ? &stop_check : nullptr, opt.radiosity));
+            };
+            if (!coord) {
+                arena.execute([&] {
+                    tbb::parallel_for(b0, b1, [&](size_t t) { compute(todo[t]); });
                 });
-            });
+            } else {
+                // The batch's items shared with the other processes: each is a pure function of
+                // (value, replica, samples, round seed), which its input carries, with the time
+                // left of the budget (the worker's clock then bounds it).
+                WorkCoordinator::Phase ph;
+                ph.kind = kMeasureItems;
+                ByteWriter(ph.header).put(round_seed);
+                ph.items = b1 - b0;
+                ph.input = [&](size_t j, ByteWriter& bw) {
+                    const size_t item = todo[b0 + j];
+                    const size_t vi = pending[item / R];
+                    bw.put(uint64_t(vi));
+                    bw.put(int32_t(item % R));
+                    bw.put(int64_t(st.next_n[vi]));
+                    double left = kInfinity;
+                    if (may_abandon && opt.time_budget > 0) left = opt.time_budget - elapsed();
+                    bw.put(left);
+                };
+                ph.output = [&](size_t j, ByteReader& br) {
+                    ReplicaResult r;
+                    r.done = br.get<uint8_t>() != 0;
+                    r.mean = br.get<double>();
+                    r.paths = br.get<uint64_t>();
+                    r.rays = br.get<uint64_t>();
+                    r.nonfinite = br.get<uint64_t>();
+                    take(todo[b0 + j], r);
+                };
+                ph.local = [&](const std::function<std::optional<size_t>()>& claim) {
+                    arena.execute([&] {
+                        tbb::parallel_for(
+                            0, threads,
+                            [&](int) {
+                                while (!abandoned.load(std::memory_order_relaxed)) {
+                                    const std::optional<size_t> j = claim();
+                                    if (!j) return;
+                                    compute(todo[b0 + *j]);
+                                }
+                            },
+                            tbb::simple_partitioner());
+                    });
+                };
+                ph.abandon = [&] {
+                    return abandoned.load() || (may_abandon && must_stop());
+                };
+                if (!coord->run(ph)) abandoned = true;
+            }
             st.paths += paths;
             st.rays += rays;
             st.nonfinite += nonfinite;
-            if (paths > 0) seconds_per_sample = (elapsed() - batch_t0) * threads / double(paths);
+            if (paths > 0) seconds_per_sample = (elapsed() - batch_t0) * slots / double(paths);
             b0 = b1;
             if (!abandoned && b0 < todo.size()) checkpoint(false);
         }
@@ -318,6 +410,57 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     res.wall_seconds = total.wall_seconds;
     res.cpu_seconds = total.cpu_seconds;
     return res;
+}
+
+JobHandler measure_job_handler(const Scene& scene, int threads) {
+    struct Worker {
+        std::vector<Value> values;
+        tbb::task_arena arena;
+        Worker(const Scene& s, int n)
+            : values(values_of(s)), arena(n > 0 ? n : int(std::thread::hardware_concurrency())) {}
+    };
+    auto wk = std::make_shared<Worker>(scene, threads);
+    return [&scene, wk](ByteReader& header, size_t count, ByteReader& inputs, ByteWriter& outputs) {
+        const uint64_t round_seed = header.get<uint64_t>();
+        struct Item {
+            uint64_t id, vi;
+            int32_t replica;
+            int64_t n;
+            double seconds_left;
+        };
+        std::vector<Item> items(count);
+        for (Item& it : items) {
+            it.id = inputs.get<uint64_t>();
+            it.vi = inputs.get<uint64_t>();
+            it.replica = inputs.get<int32_t>();
+            it.n = inputs.get<int64_t>();
+            it.seconds_left = inputs.get<double>();
+            if (it.vi >= wk->values.size() || it.n <= 0 || it.n > (int64_t(1) << 40))
+                throw Error("distributed: a meter item of another scene");
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<ReplicaResult> results(count);
+        wk->arena.execute([&] {
+            tbb::parallel_for(size_t(0), count, [&](size_t j) {
+                const Item& it = items[j];
+                const std::function<bool()> late = [&] {
+                    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+                               .count() > it.seconds_left;
+                };
+                results[j] = replica_mean(scene, wk->values, size_t(it.vi), it.replica, int(it.n),
+                                          round_seed,
+                                          std::isfinite(it.seconds_left) ? &late : nullptr);
+            });
+        });
+        for (size_t j = 0; j < count; ++j) {
+            outputs.put(items[j].id);
+            outputs.put(uint8_t(results[j].done));
+            outputs.put(results[j].mean);
+            outputs.put(results[j].paths);
+            outputs.put(results[j].rays);
+            outputs.put(results[j].nonfinite);
+        }
+    };
 }
 
 namespace {

@@ -29,6 +29,7 @@ namespace sr {
 class Scene;
 class Sampler;
 class RadiositySolution;
+class WorkCoordinator;
 struct PathCounters;
 
 /// A measurement's state between two batches of its work: what a checkpoint saves. Values
@@ -74,6 +75,10 @@ struct MeasureOptions {
     /// the path tracer's first vertex, indirect by gather rays reading this solution);
     /// null: by the path tracer.
     const RadiositySolution* radiosity = nullptr;
+    /// Distributed measuring (integrators/distributed.h): when set and there are other
+    /// processes, each batch's (value, replica) items are shared with them. The readings are
+    /// the same bit for bit.
+    WorkCoordinator* distribute = nullptr;
 };
 
 struct MeterReading {

@@ -18,6 +18,7 @@
 
 #include "steradian/core/error.h"
 #include "steradian/integrators/bdpt/bdpt.h"
+#include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
 #include "steradian/integrators/radiosity/radiosity.h"
@@ -240,6 +241,100 @@ void render_packet(const Scene& scene, const Film& film, ThreadState& ts, Vec2i 
     }
 }
 
+/// What a tile's samples cost: camera paths, rays and NaN/Inf samples.
+struct TileCounts {
+    uint64_t paths = 0, rays = 0, nonfinite = 0;
+};
+
+/// Samples [s0, s1) of every pixel of the tile [x0, x1) x [y0, y1), added to `pass` and
+/// `aux`, pixel by pixel in packets that start at multiples of the packet size.
+TileCounts render_tile(const Scene& scene, const Film& film, ThreadState& ts, int x0, int y0,
+                       int x1, int y1, int s0, int s1, std::vector<PixelSum>& pass,
+                       std::vector<double>& aux) {
+    const TileCounts before{ts.paths, ts.counters.rays, ts.nonfinite};
+    Sampler& sampler = *ts.sampler;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const Vec2i pixel(x, y);
+            sampler.start_pixel(pixel, s0, s1);
+            for (int sb = s0; sb < s1;) {
+                const int se = std::min(s1, (sb / SamplePacket::kSize + 1) * SamplePacket::kSize);
+                render_packet(scene, film, ts, pixel, sb, se - sb, pass, aux);
+                sb = se;
+            }
+        }
+    return {ts.paths - before.paths, ts.counters.rays - before.rays,
+            ts.nonfinite - before.nonfinite};
+}
+
+constexpr int kTile = 16;
+
+/// The film's crop window in tiles of kTile x kTile pixels, numbered in rows: the items of a
+/// distributed pass.
+struct TileGrid {
+    explicit TileGrid(const FilmParams& fp)
+        : x0(fp.x0), y0(fp.y0), x1(fp.x1), y1(fp.y1), nx((fp.width() + kTile - 1) / kTile),
+          ny((fp.height() + kTile - 1) / kTile) {}
+    size_t count() const { return size_t(nx) * size_t(ny); }
+    /// Tile i as {x0, y0, x1, y1}.
+    std::array<int, 4> rect(size_t i) const {
+        const int tx = x0 + int(i % size_t(nx)) * kTile, ty = y0 + int(i / size_t(nx)) * kTile;
+        return {tx, ty, std::min(tx + kTile, x1), std::min(ty + kTile, y1)};
+    }
+    int x0, y0, x1, y1, nx, ny;
+};
+
+/// A tile's pixels' sums (and auxiliary sums) of `pass`, `aux`, appended to a message; and
+/// read back from one.
+void put_tile(ByteWriter& bw, const Film& film, const std::array<int, 4>& t,
+              const std::vector<PixelSum>& pass, const std::vector<double>& aux) {
+    const FilmParams& fp = film.params();
+    const size_t stride = film.aux_stride(), w = size_t(t[2] - t[0]);
+    for (int y = t[1]; y < t[3]; ++y) {
+        const size_t at = size_t(y - fp.y0) * size_t(fp.width()) + size_t(t[0] - fp.x0);
+        bw.put_array(pass.data() + at, w);
+        if (stride) bw.put_array(aux.data() + at * stride, w * stride);
+    }
+}
+
+void get_tile(ByteReader& br, const Film& film, const std::array<int, 4>& t,
+              std::vector<PixelSum>& pass, std::vector<double>& aux) {
+    const FilmParams& fp = film.params();
+    const size_t stride = film.aux_stride(), w = size_t(t[2] - t[0]);
+    for (int y = t[1]; y < t[3]; ++y) {
+        const size_t at = size_t(y - fp.y0) * size_t(fp.width()) + size_t(t[0] - fp.x0);
+        br.get_array(pass.data() + at, w);
+        if (stride) br.get_array(aux.data() + at * stride, w * stride);
+    }
+}
+
+/// The render's sampler and its per-thread state: one clone of the sampler per thread.
+struct RenderThreads {
+    RenderThreads(const Scene& scene, const FilmParams& fp, int total_spp, uint64_t seed,
+                  const RadiositySolution* radiosity = nullptr) {
+        if (scene.sampler.type == "stratified")
+            proto = make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
+                                            scene.sampler.jitter, seed);
+        else
+            proto = make_sampler(scene.sampler.type, total_spp, fp.resolution, seed);
+        // pbrt-v4 scales camera ray differentials by max(1/8, 1/sqrt(samples per pixel)).
+        const Float scale = std::max(Float(0.125), 1 / std::sqrt(Float(total_spp)));
+        const bool footprints = scene.texture_footprints;
+        states = std::make_unique<tbb::enumerable_thread_specific<ThreadState>>([this, scale,
+                                                                                  footprints,
+                                                                                  radiosity] {
+            ThreadState s;
+            s.sampler = proto->clone();
+            s.radiosity = radiosity;
+            if (footprints) s.footprint_scale = scale;
+            s.visible_footprint_scale = scale;
+            return s;
+        });
+    }
+    std::unique_ptr<Sampler> proto;
+    std::unique_ptr<tbb::enumerable_thread_specific<ThreadState>> states;
+};
+
 /// Progress bar on stderr: percent, elapsed, ETA. Redrawn by its own thread.
 class Progress {
 public:
@@ -333,27 +428,20 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     const FilmParams& fp = film.params();
     const int total_spp = render_samples_per_pixel(scene, opt);
     const uint64_t seed = scene.sampler.seed + opt.seed;
-    std::unique_ptr<Sampler> proto;
-    if (scene.sampler.type == "stratified")
-        proto = make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
-                                        scene.sampler.jitter, seed);
-    else
-        proto = make_sampler(scene.sampler.type, total_spp, fp.resolution, seed);
 
     int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_arena arena(threads);
 
-    tbb::enumerable_thread_specific<ThreadState> states([&] {
-        ThreadState s;
-        s.sampler = proto->clone();
-        s.radiosity = radiosity;
-        // pbrt-v4 scales camera ray differentials by max(1/8, 1/sqrt(samples per pixel)).
-        const Float scale = std::max(Float(0.125), 1 / std::sqrt(Float(total_spp)));
-        if (scene.texture_footprints) s.footprint_scale = scale;
-        s.visible_footprint_scale = scale;
-        return s;
-    });
+    RenderThreads rt(scene, fp, total_spp, seed, radiosity);
+    tbb::enumerable_thread_specific<ThreadState>& states = *rt.states;
+    WorkCoordinator* const coord =
+        opt.distribute && opt.distribute->workers() > 0 ? opt.distribute : nullptr;
+    if (coord && (bidir || radiosity))
+        throw Error(fmt::format("Integrator \"{}\" is not distributed yet (run steradian, or "
+                                "steradian-mpi without mpirun)",
+                                itype));
+    TileCounts remote;  // the workers' share (distributed)
 
     RenderStats stats;
     const auto t0 = Clock::now();
@@ -371,8 +459,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     std::atomic<bool> out_of_time{false};
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
 
-    constexpr int kTile = 16;
     static_assert(kPassAlign % SamplePacket::kSize == 0);
+    const TileGrid grid(fp);
 
     // The bidirectional integrators' fixed tiles (their splats are reduced in tile order,
     // so that the image does not depend on the number of threads) and strategy images.
@@ -396,6 +484,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     // next checkpoint; a time-budgeted render without checkpoints starts with a pass of 1 spp
     // (it always completes: an image of no samples is no answer), so the image differs from
     // the others only where its first packets' rays meet two surfaces at the same distance.
+    // Distributed (opt.distribute), a pass's tiles are shared with the other processes, each
+    // given the tile's sums so far and returning them continued: the same sums.
     const bool paced = opt.time_budget > 0 || opt.checkpoint;
     int pass_size = paced ? kPassAlign : kMaxPassSpp;
     double seconds_per_spp = 0;  // of the passes so far (wall)
@@ -410,6 +500,9 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
             s.rays += t.counters.rays;
             s.nonfinite += t.nonfinite;
         }
+        s.camera_paths += remote.paths;
+        s.rays += remote.rays;
+        s.nonfinite += remote.nonfinite;
         return s;
     };
     // The end of a pass that would end at `end`: a multiple of kPassAlign after `done`.
@@ -499,32 +592,68 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                 film.set_splat_sums(std::move(splat_pass));
                 strategy_sums = std::move(strategy_pass);
             }
-        } else
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range2d<int>(fp.y0, fp.y1, kTile, fp.x0, fp.x1, kTile),
-                [&](const tbb::blocked_range2d<int>& r) {
-                    if (out_of_time.load(std::memory_order_relaxed)) return;
-                    if (opt.time_budget > 0 && s0 > first_spp && elapsed() > opt.time_budget) {
-                        out_of_time = true;
-                        return;
-                    }
-                    ThreadState& ts = states.local();
-                    Sampler& sampler = *ts.sampler;
-                    for (int y = r.rows().begin(); y < r.rows().end(); ++y)
-                        for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
-                            const Vec2i pixel(x, y);
-                            sampler.start_pixel(pixel, s0, s1);
-                            for (int sb = s0; sb < s1;) {
-                                const int se =
-                                    std::min(s1, (sb / SamplePacket::kSize + 1) * SamplePacket::kSize);
-                                render_packet(scene, film, ts, pixel, sb, se - sb, pass, aux);
-                                sb = se;
+        } else {
+        // A tile is abandoned once the budget is spent (after this run's first pass).
+        auto budget_spent = [&] {
+            if (out_of_time.load(std::memory_order_relaxed)) return true;
+            if (opt.time_budget > 0 && s0 > first_spp && elapsed() > opt.time_budget) {
+                out_of_time = true;
+                return true;
+            }
+            return false;
+        };
+        if (!coord) {
+            arena.execute([&] {
+                tbb::parallel_for(
+                    tbb::blocked_range2d<int>(fp.y0, fp.y1, kTile, fp.x0, fp.x1, kTile),
+                    [&](const tbb::blocked_range2d<int>& r) {
+                        if (budget_spent()) return;
+                        render_tile(scene, film, states.local(), r.cols().begin(),
+                                    r.rows().begin(), r.cols().end(), r.rows().end(), s0, s1,
+                                    pass, aux);
+                        progress.add(uint64_t(r.rows().size()) * r.cols().size() * (s1 - s0));
+                    });
+            });
+        } else {
+            WorkCoordinator::Phase ph;
+            ph.kind = kRenderTiles;
+            ByteWriter hw(ph.header);
+            hw.put(int32_t(total_spp));
+            hw.put(uint64_t(seed));
+            hw.put(int32_t(s0));
+            hw.put(int32_t(s1));
+            ph.items = grid.count();
+            ph.input = [&](size_t i, ByteWriter& bw) { put_tile(bw, film, grid.rect(i), pass, aux); };
+            ph.output = [&](size_t i, ByteReader& br) {
+                const std::array<int, 4> t = grid.rect(i);
+                get_tile(br, film, t, pass, aux);
+                remote.paths += br.get<uint64_t>();
+                remote.rays += br.get<uint64_t>();
+                remote.nonfinite += br.get<uint64_t>();
+                progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) * uint64_t(s1 - s0));
+            };
+            ph.local = [&](const std::function<std::optional<size_t>()>& claim) {
+                arena.execute([&] {
+                    tbb::parallel_for(
+                        0, threads,
+                        [&](int) {
+                            while (!budget_spent()) {
+                                const std::optional<size_t> i = claim();
+                                if (!i) return;
+                                const std::array<int, 4> t = grid.rect(*i);
+                                render_tile(scene, film, states.local(), t[0], t[1], t[2], t[3],
+                                            s0, s1, pass, aux);
+                                progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) *
+                                             uint64_t(s1 - s0));
                             }
-                        }
-                    progress.add(uint64_t(r.rows().size()) * r.cols().size() * (s1 - s0));
+                        },
+                        tbb::simple_partitioner());
                 });
-        });
+            };
+            ph.abandon = budget_spent;
+            if (!coord->run(ph)) out_of_time = true;
+        }
+        }
         if (out_of_time) {
             stats.time_limited = true;
             break;
@@ -574,6 +703,64 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                 {fmt::format("bdpt_d{:02}_s{:02}_t{:02}.exr", depth, s, t), f.rgb_image()});
         }
     return stats;
+}
+
+JobHandler render_job_handler(const Scene& scene, int threads) {
+    // A worker's state, made on its first job and kept while the sample count and seed stay:
+    // a film of the scene's size whose tiles are set from each job's inputs, and the samplers.
+    struct Worker {
+        Film film;
+        std::vector<PixelSum> pass;
+        std::vector<double> aux;
+        std::unique_ptr<RenderThreads> rt;
+        int spp = -1;
+        uint64_t seed = 0;
+        int threads;
+        tbb::task_arena arena;
+        Worker(const Scene& s, int n)
+            : film(s.film), pass(film.make_buffer()), aux(film.aux_sums()),
+              threads(n > 0 ? n : int(std::thread::hardware_concurrency())), arena(threads) {}
+    };
+    auto wk = std::make_shared<Worker>(scene, threads);
+    return [&scene, wk](ByteReader& header, size_t count, ByteReader& inputs, ByteWriter& outputs) {
+        Worker& W = *wk;
+        const int total_spp = header.get<int32_t>();
+        const uint64_t seed = header.get<uint64_t>();
+        const int s0 = header.get<int32_t>(), s1 = header.get<int32_t>();
+        if (total_spp <= 0 || s0 < 0 || s1 <= s0 || s1 > total_spp)
+            throw Error(fmt::format("distributed: a pass [{}, {}) of {} samples", s0, s1, total_spp));
+        if (!W.rt || W.spp != total_spp || W.seed != seed) {
+            W.rt = std::make_unique<RenderThreads>(scene, W.film.params(), total_spp, seed);
+            W.spp = total_spp;
+            W.seed = seed;
+        }
+        const TileGrid grid(W.film.params());
+        std::vector<size_t> items(count);
+        std::vector<TileCounts> counts(count);
+        for (size_t j = 0; j < count; ++j) {
+            const uint64_t item = inputs.get<uint64_t>();
+            if (item >= grid.count()) throw Error("distributed: a tile outside the film");
+            items[j] = size_t(item);
+            get_tile(inputs, W.film, grid.rect(items[j]), W.pass, W.aux);
+        }
+        W.arena.execute([&] {
+            tbb::parallel_for(
+                size_t(0), count,
+                [&](size_t j) {
+                    const std::array<int, 4> t = grid.rect(items[j]);
+                    counts[j] = render_tile(scene, W.film, W.rt->states->local(), t[0], t[1],
+                                            t[2], t[3], s0, s1, W.pass, W.aux);
+                },
+                tbb::simple_partitioner());
+        });
+        for (size_t j = 0; j < count; ++j) {
+            outputs.put(uint64_t(items[j]));
+            put_tile(outputs, W.film, grid.rect(items[j]), W.pass, W.aux);
+            outputs.put(counts[j].paths);
+            outputs.put(counts[j].rays);
+            outputs.put(counts[j].nonfinite);
+        }
+    };
 }
 
 }  // namespace sr

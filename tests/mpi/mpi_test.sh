@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# steradian-mpi under mpirun (docs/distributed.md): renders and meter readings of 2 and 3
+# processes are bit-identical to the one-process ones (the renderer's determinism rule: the
+# same scene, seed and sample count give the same image and readings however the work is
+# split), a reading keeps its closed form, a dying process fails the job in bounded time,
+# and errors are reported once.
+# Usage: tests/mpi/mpi_test.sh path/to/steradian path/to/steradian-mpi MPIEXEC
+set -u
+one=$(realpath "$1")
+bin=$(realpath "$2")
+mpiexec=$3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+check() {  # check NAME CONDITION...
+  local name=$1
+  shift
+  if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL: $name"; fi
+}
+# This machine may have fewer cores than processes (--oversubscribe), and tests may run as
+# root, which Open MPI refuses unless told.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+run() {  # run N ARGS... : steradian-mpi on N processes of one thread each, bounded in time
+  local n=$1
+  shift
+  timeout 60 "$mpiexec" -n "$n" --oversubscribe "$bin" "$@"
+}
+
+# A diffuse sphere over a diffuse floor lit by a spherical area light: indirect light, a
+# crop window (tiles that are not whole), 72 samples per pixel (two passes: 64 + 8).
+cat > "$tmp/scene.pbrt" <<'SCENE'
+LookAt 0 1 -4  0 0.5 0  0 1 0
+Camera "perspective" "float fov" [ 45 ]
+Film "rgb" "integer xresolution" [ 40 ] "integer yresolution" [ 30 ] "string filename" "s.pfm"
+     "float cropwindow" [ 0.05 0.95 0 1 ]
+Sampler "zsobol" "integer pixelsamples" [ 72 ]
+WorldBegin
+AttributeBegin
+  Translate 1 3 -1
+  AreaLightSource "diffuse" "rgb L" [ 8 8 8 ]
+  Shape "sphere" "float radius" [ 0.4 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.6 0.5 0.4 ]
+Shape "trianglemesh" "point3 P" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeBegin
+  Translate 0 0.7 0
+  Material "diffuse" "rgb reflectance" [ 0.2 0.7 0.3 ]
+  Shape "sphere" "float radius" [ 0.7 ]
+AttributeEnd
+SCENE
+# The meters measured below; and for `render`, whose meters aim at 0.1 % (too slow for a
+# test), one that sees no light from under the floor (0 lx, 0 standard error after the pilot
+# round), so that the render and then the measurement share one session of the processes.
+cp "$tmp/scene.pbrt" "$tmp/meters.pbrt"
+cat >> "$tmp/meters.pbrt" <<'SCENE'
+Meter "illuminance" "string name" "floor" "point3 p" [ 1.5 0 0  -1.5 0 0 ] "normal n" [ 0 1 0 ]
+Meter "illuminancegrid" "string name" "grid" "point3 corner" [ -2 0.01 -2 ] "vector3 u" [ 4 0 0 ]
+      "vector3 v" [ 0 0 4 ] "integer resolution" [ 3 2 ]
+SCENE
+echo 'Meter "illuminance" "string name" "dark" "point3 p" [ 0 -0.01 0 ] "normal n" [ 0 -1 0 ]' >> "$tmp/scene.pbrt"
+
+"$one" render "$tmp/scene.pbrt" -o "$tmp/ref.pfm" --threads 1 --quiet
+check "one process renders" test -s "$tmp/ref.pfm"
+for n in 2 3; do
+  run "$n" render "$tmp/scene.pbrt" -o "$tmp/mpi$n.pfm" --threads 1 --quiet > "$tmp/r$n.txt" 2>&1
+  check "mpirun -n $n render exits 0" test $? -eq 0
+  check "mpirun -n $n render: the image is bit-identical to one process's" cmp -s "$tmp/ref.pfm" "$tmp/mpi$n.pfm"
+  # The meters' readings written beside the image, compared value by value (every digit).
+  check "mpirun -n $n render: the meters' readings equal one process's" python3 - "$tmp/ref.meters.json" "$tmp/mpi$n.meters.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+key = lambda d: [(m["name"], m["values"], m["stderr"], m["samples"]) for m in d["meters"]]
+sys.exit(0 if key(a) == key(b) and a["paths"] == b["paths"] else 1)
+PY
+done
+# Threads within processes change nothing either; nor does pacing the passes for checkpoints
+# (8, 16, 32, 16 samples per pixel), with the coordinator writing the checkpoint.
+run 2 render "$tmp/scene.pbrt" -o "$tmp/ck.pfm" --threads 2 --checkpoint "$tmp/ck.ckpt" --quiet > "$tmp/ck.txt" 2>&1
+check "mpirun -n 2 render --checkpoint exits 0" test $? -eq 0
+check "mpirun -n 2 render --checkpoint: the image is bit-identical" cmp -s "$tmp/ref.pfm" "$tmp/ck.pfm"
+check "mpirun -n 2 render --checkpoint writes the checkpoint" test -s "$tmp/ck.ckpt"
+# The summary comes from process 0 alone, with the CPU time of all processes.
+run 3 render "$tmp/scene.pbrt" -o "$tmp/sum.pfm" --threads 1 > "$tmp/sum.txt" 2>&1
+check "the summary is printed once" test "$(grep -c 'scene load' "$tmp/sum.txt")" -eq 1
+check "the summary names the processes" grep -q "processes       3" "$tmp/sum.txt"
+
+# measure: several rounds (a 2 % target), every replica of every round spread over the
+# processes; the readings equal one process's to the last digit.
+"$one" measure "$tmp/meters.pbrt" --rel-error 0.02 --threads 1 --json "$tmp/m1.json" -q > /dev/null
+for n in 2 3; do
+  run "$n" measure "$tmp/meters.pbrt" --rel-error 0.02 --threads 1 --json "$tmp/m$n.json" -q > "$tmp/m$n.txt" 2>&1
+  check "mpirun -n $n measure exits 0" test $? -eq 0
+  check "mpirun -n $n measure: the readings equal one process's" python3 - "$tmp/m1.json" "$tmp/m$n.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+key = lambda d: [(m["name"], m["values"], m["stderr"], m["samples"], m["converged"]) for m in d["meters"]]
+rounds = max(s for m in a["meters"] for s in m["samples"]) > 32 * 32  # more than the pilot
+sys.exit(0 if key(a) == key(b) and rounds else 1)
+PY
+done
+# A closed form through the distributed path: a point light of intensity 100 cd (scale 100)
+# 2 m above the meter, nothing else: E = I / d^2 = 25 lx.
+cat > "$tmp/point.pbrt" <<'SCENE'
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+WorldBegin
+AttributeBegin
+  Translate 0 0 2
+  LightSource "point" "float scale" [ 100 ]
+AttributeEnd
+Meter "illuminance" "string name" "desk" "point3 p" [ 0 0 0  1 0 0 ] "normal n" [ 0 0 1 ]
+SCENE
+run 2 measure "$tmp/point.pbrt" --csv "$tmp/point.csv" -q > /dev/null 2>&1
+desk=$(awk -F, '$1 == "desk" && $4 == 0 {print $8}' "$tmp/point.csv")
+check "mpirun -n 2 measure: E = 100/2^2 = 25 lx (to 0.1 %)" \
+  awk -v v="$desk" 'BEGIN { exit !(v > 24.975 && v < 25.025) }'
+
+# A process that dies mid-render ends the job: non-zero status, in bounded time, with a
+# message naming it (Open MPI aborts the job when a process exits abnormally).
+start=$SECONDS
+STERADIAN_TEST_ABORT_AFTER_JOBS=1 run 2 render "$tmp/scene.pbrt" -o "$tmp/dead.pfm" --threads 1 --quiet > "$tmp/dead.txt" 2>&1
+status=$?
+check "a dying process fails the job (status $status)" test "$status" -ne 0 -a "$status" -ne 124
+check "... within 60 s" test $((SECONDS - start)) -lt 60
+check "... saying which process" grep -q "process 1 aborts" "$tmp/dead.txt"
+check "... and writes no image" test ! -e "$tmp/dead.pfm"
+
+# An error every process meets is reported once, by process 0.
+run 3 render "$tmp/missing.pbrt" --quiet > "$tmp/missing.txt" 2>&1
+check "a missing scene fails the job" test $? -ne 0
+check "... reported once" test "$(grep -c '^error' "$tmp/missing.txt")" -eq 1
+
+echo "mpi: $pass passed, $fail failed"
+test "$fail" -eq 0
