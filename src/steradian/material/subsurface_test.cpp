@@ -91,7 +91,10 @@ TEST(SubsurfaceMaterial, ReflectanceAndMeanFreePath) {
     Scene s =
         build(R"(Material "subsurface" "spectrum reflectance" [ 300 0.5 900 0.5 ] "spectrum mfp" [ 300 0.25 900 0.25 ] "float scale" 2)");
     SubsurfaceCoefficients c = coefficients(s);
-    const Float alpha = subsurface_albedo(0.5f);
+    // The boundary (eta 1.33, the default) reflects r_i of the diffuse light inside back in:
+    // the interior's reflectance A_0 solves 0.5 = A_0 (1 - r_i) / (1 - r_i A_0).
+    const Float r_i = only_subsurface(s).internal_r;
+    const Float alpha = subsurface_albedo(0.5f / (1 - r_i + r_i * 0.5f));
     for (int i = 0; i < kSpectrumSamples; ++i) {
         EXPECT_NEAR(c.sigma_s[i] + c.sigma_a[i], 2.0, 1e-5);  // 1 / (0.25 * 2)
         EXPECT_NEAR(c.sigma_s[i], 2 * alpha, 1e-5);
@@ -226,6 +229,18 @@ TEST(SubsurfaceAlbedo, InvertsVanDeHulstMonotonically) {
             EXPECT_NEAR(van_de_hulst(alpha), a, 2e-4) << a;
         }
     }
+}
+
+// Diffuse light crossing a boundary of relative IOR eta: by reciprocity the fraction the
+// boundary passes from inside, 1 - r_i, is the fraction it passes from outside, 1 - r_e,
+// over eta^2 (radiance is divided by eta^2 on the way in). r_e is the exit lobe's 1 - c.
+TEST(SubsurfaceMaterial, InternalReflectanceObeysReciprocity) {
+    for (Float eta : {1.0f, 1.33f, 1.5f, 2.4f}) {
+        const Float r_e = 1 - normalized_fresnel_c(eta);
+        EXPECT_NEAR(diffuse_internal_reflectance(eta), 1 - (1 - r_e) / (eta * eta), 2e-4)
+            << "eta " << eta;
+    }
+    EXPECT_NEAR(diffuse_internal_reflectance(1.0f), 0, 1e-6);
 }
 
 }  // namespace
