@@ -23,18 +23,31 @@
 
 namespace sr {
 
-namespace {
-
-/// The meter's spectral weighting of a sampled spectrum: the average over the path's
-/// wavelengths of w(lambda) L(lambda) / p(lambda) (terminated secondaries have pdf 0 and
-/// the hero's pdf already carries the 1/N).
-double weigh(const Meter& m, const SampledSpectrum& L, const SampledWavelengths& lambda) {
+// (Terminated secondary wavelengths have pdf 0, and the hero's pdf already carries the 1/N.)
+double meter_weigh(const Meter& m, const SampledSpectrum& L, const SampledWavelengths& lambda) {
     double sum = 0;
     for (int i = 0; i < kSpectrumSamples; ++i)
         if (lambda.pdf[i] > 0)
             sum += double(L[i]) * double(m.spectral_weight(lambda.lambda[i])) / double(lambda.pdf[i]);
     return sum / kSpectrumSamples;
 }
+
+Vec3 meter_view_direction(const Meter& m, Vec3 dir, Point2 u) {
+    if (!(m.cone_half_angle > 0)) return dir;
+    return Frame::from_z(dir).to_world(sample_uniform_cone(u, std::cos(m.cone_half_angle)));
+}
+
+SurfaceHit meter_receiver(Point3 p, Vec3 n) {
+    SurfaceHit v;
+    v.p = p;
+    Float err = (std::abs(p.x) + std::abs(p.y) + std::abs(p.z) + 1) * Float(2e-6);
+    v.p_error = Vec3(err, err, err);
+    v.ng = v.ns = v.wo = n;
+    v.dpdu = Frame::from_z(n).s;
+    return v;
+}
+
+namespace {
 
 PathLimits limits_of(const Meter& m) {
     PathLimits lim;
@@ -52,32 +65,23 @@ double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& s
     const Vec3 dir = m.directions[point];
     Point3 p = m.points[point];
     if (m.kind == MeterKind::Luminance) {
-        Point2 u = sampler.get_2d();
-        Vec3 d = dir;
-        if (m.cone_half_angle > 0)
-            d = Frame::from_z(dir).to_world(sample_uniform_cone(u, std::cos(m.cone_half_angle)));
+        const Vec3 d = meter_view_direction(m, dir, sampler.get_2d());
         PathLimits lim;
         lim.max_depth = m.max_depth < 0 ? -1 : m.max_depth;
         SampledSpectrum L =
             path_li(scene, Ray{p, d, kInfinity}, lambda, sampler, counters, lim, m.medium);
-        return weigh(m, L, lambda);
+        return meter_weigh(m, L, lambda);
     }
     if (m.cell_average) {
         Point2 u = sampler.get_2d();
         p = p + m.cell_u * (u.x - Float(0.5)) + m.cell_v * (u.y - Float(0.5));
     }
     // An ideal white Lambertian receiver facing `dir`: E = pi L_o.
-    SurfaceHit v;
-    v.p = p;
-    Float err = (std::abs(p.x) + std::abs(p.y) + std::abs(p.z) + 1) * Float(2e-6);
-    v.p_error = Vec3(err, err, err);
-    v.ng = v.ns = v.wo = dir;
-    Frame frame = Frame::from_z(dir);
-    v.dpdu = frame.s;
-    Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
+    const SurfaceHit v = meter_receiver(p, dir);
+    Bsdf receiver(Frame::from_z(dir), dir, LambertLobe{SampledSpectrum(1)});
     SampledSpectrum L =
         path_lo(scene, v, receiver, lambda, sampler, counters, limits_of(m), m.medium);
-    return kPi * weigh(m, L, lambda);
+    return kPi * meter_weigh(m, L, lambda);
 }
 
 namespace {

@@ -22,7 +22,9 @@
 #include <string>
 #include <vector>
 
+#include "steradian/geometry/hit.h"
 #include "steradian/sensors/meter.h"
+#include "steradian/spectrum/sampled.h"
 
 namespace sr {
 
@@ -111,6 +113,17 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& options);
 /// meter's quantity in its unit. Exposed for tests.
 double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& sampler,
                     PathCounters& counters);
+
+/// The pieces of a meter sample that every estimator of it shares (the path tracer's here,
+/// the radiosity gather's in integrators/radiosity/gather.cpp):
+/// the meter's spectral weighting of a sampled spectrum, the average over the path's
+/// wavelengths of w(lambda) L(lambda) / p(lambda);
+double meter_weigh(const Meter& m, const SampledSpectrum& L, const SampledWavelengths& lambda);
+/// a luminance meter's viewing direction for the 2D sample u (uniform in its cone around dir);
+Vec3 meter_view_direction(const Meter& m, Vec3 dir, Point2 u);
+/// a receiving meter's vertex: an ideal receiver at p facing n, offset by a few parts per
+/// million of |p| (its p_error).
+SurfaceHit meter_receiver(Point3 p, Vec3 n);
 
 /// JSON ({"meters": [...]}, docs/photometry.md) and CSV renderings of a result.
 std::string meters_json(const MeasureResult& r);

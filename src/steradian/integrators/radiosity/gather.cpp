@@ -3,6 +3,7 @@
 #include <variant>
 
 #include "steradian/bsdf/bsdf.h"
+#include "steradian/integrators/measure.h"
 #include "steradian/integrators/path/path.h"
 #include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/material/material.h"
@@ -12,15 +13,6 @@
 namespace sr {
 
 namespace {
-
-/// As measure.cpp's: the meter's spectral weighting of a sampled spectrum.
-double weigh(const Meter& m, const SampledSpectrum& L, const SampledWavelengths& lambda) {
-    double sum = 0;
-    for (int i = 0; i < kSpectrumSamples; ++i)
-        if (lambda.pdf[i] > 0)
-            sum += double(L[i]) * double(m.spectral_weight(lambda.lambda[i])) / double(lambda.pdf[i]);
-    return sum / kSpectrumSamples;
-}
 
 SampledSpectrum emitted(const Scene& scene, const SurfaceHit& hit, const SampledWavelengths& lambda) {
     const auto* area = std::get_if<DiffuseAreaLight>(&scene.lights[size_t(hit.light)]);
@@ -80,16 +72,12 @@ double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, 
     const Vec3 dir = m.directions[point];
     Point3 p = m.points[point];
     if (m.kind == MeterKind::Luminance) {
-        Point2 u = sampler.get_2d();
-        Vec3 d = dir;
-        if (m.cone_half_angle > 0)
-            d = Frame::from_z(dir).to_world(sample_uniform_cone(u, std::cos(m.cone_half_angle)));
-        Ray ray{p, d, kInfinity};
+        Ray ray{p, meter_view_direction(m, dir, sampler.get_2d()), kInfinity};
         SurfaceHit hit;
         ++counters.rays;
         const bool found = scene.intersect(ray, hit);
         SampledSpectrum L = radiosity_li_from(scene, sol, ray, found, hit, lambda, sampler, counters);
-        return weigh(m, L, lambda);
+        return meter_weigh(m, L, lambda);
     }
     if (m.cell_average) {
         Point2 u = sampler.get_2d();
@@ -97,27 +85,22 @@ double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, 
     }
     // An ideal white Lambertian receiver facing `dir`: E = pi L_o, L_o = direct (the path
     // tracer's first vertex) + indirect (one cosine-distributed gather ray: f cos / pdf = 1).
-    SurfaceHit v;
-    v.p = p;
-    Float err = (std::abs(p.x) + std::abs(p.y) + std::abs(p.z) + 1) * Float(2e-6);
-    v.p_error = Vec3(err, err, err);
-    v.ng = v.ns = v.wo = dir;
-    Frame frame = Frame::from_z(dir);
-    v.dpdu = frame.s;
+    const SurfaceHit v = meter_receiver(p, dir);
+    const Frame frame = Frame::from_z(dir);
     const Point2 ug = sampler.get_2d();
     double e = 0;
     if (m.component != MeterComponent::Direct) {
         const Vec3 wi = frame.to_world(sample_cosine_hemisphere(ug));
         SampledSpectrum Li = radiosity_gather(scene, sol, spawn_ray(v, wi), lambda, sampler,
                                               counters, scene.integrator.radiosity.max_depth);
-        e += kPi * weigh(m, Li, lambda);
+        e += kPi * meter_weigh(m, Li, lambda);
     }
     if (m.component != MeterComponent::Indirect) {
         Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
         PathLimits lim;
         lim.max_depth = 1;
         SampledSpectrum Ld = path_lo(scene, v, receiver, lambda, sampler, counters, lim);
-        e += kPi * weigh(m, Ld, lambda);
+        e += kPi * meter_weigh(m, Ld, lambda);
     }
     return e;
 }
