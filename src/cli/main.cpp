@@ -31,6 +31,7 @@
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/measure.h"
+#include "steradian/integrators/report.h"
 #include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
@@ -242,6 +243,7 @@ void write_grid_false_color(const sr::MeasureResult& r, const std::string& path,
 struct MeasureArgs {
     std::string scene;
     std::string falsecolor;
+    std::string report;
     std::string json, csv;
     double rel_error = 1e-3;
     double time_budget = 0;
@@ -298,6 +300,7 @@ sr::Checkpoint measure_checkpoint(const MeasureArgs& a, const sr::MeasureOptions
     c.set("json", absolute_or_empty(a.json));
     c.set("csv", absolute_or_empty(a.csv));
     c.set("falsecolor", absolute_or_empty(a.falsecolor));
+    c.set("report", absolute_or_empty(a.report));
     c.set_number("checkpoint-every", a.checkpoint_every);
     c.set("method", a.method);
     return c;
@@ -316,6 +319,7 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
         if (!given("--json")) a.json = resume->get("json");
         if (!given("--csv")) a.csv = resume->get("csv");
         if (!given("--falsecolor")) a.falsecolor = resume->get("falsecolor");
+        if (!given("--report") && resume->has("report")) a.report = resume->get("report");
         if (!given("--rel-error")) a.rel_error = resume->get_double("rel-error");
         if (!given("--seed")) a.seed = std::stoull(resume->get("seed"));
         if (!given("--checkpoint-every"))
@@ -333,6 +337,7 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
         if (!a.json.empty()) sr::check_output_path(a.json, "--json");
         if (!a.csv.empty()) sr::check_output_path(a.csv, "--csv");
         if (!a.falsecolor.empty()) sr::check_image_output(a.falsecolor);
+        if (!a.report.empty()) sr::check_output_path(a.report, "--report");
         if (!a.checkpoint.empty()) sr::check_output_path(a.checkpoint, "the checkpoint");
         if (!a.radiosity_mesh.empty())
             sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
@@ -419,6 +424,12 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     if (!a.json.empty()) sr::write_text_file(a.json, sr::meters_json(r));
     if (!a.csv.empty()) sr::write_text_file(a.csv, sr::meters_csv(r));
     if (!a.falsecolor.empty()) write_grid_false_color(r, a.falsecolor, a.quiet);
+    if (!a.report.empty()) {
+        sr::ReportOptions ro;
+        ro.scene_path = scene_path;
+        sr::write_text_file(a.report, sr::measure_report_html(scene, r, ro));
+        if (!a.quiet) std::fprintf(stderr, "steradian: wrote %s (report)\n", a.report.c_str());
+    }
     if (!a.quiet) print_measure_summary(r);
     print_distributed_summary(coord, a.quiet);
     if (r.interrupted)
@@ -901,6 +912,10 @@ int main(int argc, char** argv) {
     measure->add_option("--seed", margs.seed, "random seed")->check(kSeed);
     measure->add_option("--falsecolor", margs.falsecolor,
                         "write false-colour images of the grid meters with a labelled scale (.png)");
+    measure->add_option("--report", margs.report,
+                        "write a lighting designer's report: one self-contained HTML page with "
+                        "the luminaires' data and polar plots, each grid's figures, false-colour "
+                        "and isolux plans, and the method's accuracy");
     measure->add_flag("-q,--quiet", margs.quiet, "no summary on stderr");
     measure->add_option("--method", margs.method,
                         "auto (default: radiosity if every surface is diffuse or the scene's "

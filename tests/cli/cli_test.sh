@@ -98,7 +98,7 @@ Meter "illuminancegrid" "string name" "workplane" "point3 corner" [ -1 -1 0 ] "v
       "vector3 v" [ 0 2 0 ] "integer resolution" [ 4 3 ]
 SCENE
 "$bin" measure "$tmp/meters.pbrt" --json "$tmp/m.json" --csv "$tmp/m.csv" --falsecolor "$tmp/m.png" \
-  > "$tmp/measure.txt" 2> "$tmp/measure.err"
+  --report "$tmp/m.html" > "$tmp/measure.txt" 2> "$tmp/measure.err"
 check "measure exits 0" test $? -eq 0
 desk=$(awk -F, '$1 == "desk" && $4 == 0 {print $8}' "$tmp/m.csv")
 check "measure reports the desk reading (E = 100/2^2 = 25 lx to 0.1 %)" \
@@ -110,6 +110,12 @@ for key in '"name": "desk"' '"type": "illuminance"' '"unit": "lx"' '"values"' '"
 done
 check "CSV has a header and 14 rows" test "$(wc -l < "$tmp/m.csv")" -eq 15
 check "measure --falsecolor writes a PNG" test -s "$tmp/m.png"
+check "measure --report writes an HTML page" grep -q "<h1>Lighting report: meters.pbrt</h1>" "$tmp/m.html"
+check "the report has the grid's plans" test "$(grep -c "<svg" "$tmp/m.html")" -eq 2
+"$bin" measure "$tmp/meters.pbrt" --report "$tmp/m.csv/r.html" > "$tmp/badreport.txt" 2>&1
+check "measure --report to an unwritable place fails" test $? -ne 0
+check "... naming the path, before measuring" \
+  sh -c "grep -q 'm.csv/r.html' '$tmp/badreport.txt' && ! grep -q E_avg '$tmp/badreport.txt'"
 "$bin" measure "$tmp/small.pbrt" > "$tmp/nometer.txt" 2>&1
 check "measure without meters exits non-zero" test $? -ne 0
 check "measure without meters says so" grep -q "no Meter" "$tmp/nometer.txt"
