@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "steradian/film/image_io.h"
+#include "steradian/integrators/glare.h"
 #include "steradian/integrators/measure.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
@@ -432,6 +433,89 @@ TEST(Meters, ErrorsNameTheDirective) {
     EXPECT_NE(err("Meter \"illuminance\" \"point3 p\" [0 0 0] \"normal n\" [0 0 1] \"float bogus\" 1\n")
                   .find("bogus"),
               std::string::npos);
+}
+
+
+// ---- unified glare rating (CIE 117:1995) ---------------------------------------------------
+
+// An observer inside an integrating sphere (radius R, diffuse reflectance rho) with an
+// isotropic luminaire of I0 cd at its centre. The direct irradiance on the wall is uniform,
+// I0 / R^2, so the wall's radiance after all bounces is uniform too:
+//   L_wall = rho / pi * I0 / R^2 / (1 - rho),
+// and the indirect illuminance on any plane inside is pi L_wall: the background luminance is
+// L_b = L_wall. The luminaire's luminous opening is a W x L rectangle facing down (its file),
+// emitted from its centre (point form), so that it is seen with
+//   A = W L |cos(gamma)|, omega = A / r^2, L = I0 / A,
+// and Guth's position index of its direction (Levin's form, integrators/glare.h):
+//   ln p = (35.2 - 0.31889 tau - 1.22 e^(-2 tau / 9)) 1e-3 sigma
+//          + (21 + 0.26667 tau - 0.002963 tau^2) 1e-5 sigma^2.
+// UGR = 8 log10(0.25 / L_b * L^2 omega / p^2), to 4 of its standard errors (propagated from
+// E_ind's). A second eye looking away from the luminaire has no glare source in view.
+TEST(Glare, UnifiedGlareRatingInsideAnIntegratingSphere) {
+    const double I0 = 100, R = 3, rho = 0.5, W = 0.3, L = 0.3;
+    TempDir t;
+    t.write("iso.ies", fmt::format("IESNA:LM-63-2002\n[TEST] isotropic, rectangular opening\n"
+                                   "TILT=NONE\n1 -1 1 3 1 1 2 {0} {1} 0\n1 1 10\n0 90 180\n0\n"
+                                   "{2} {2} {2}\n",
+                                   W, L, I0));
+    const std::string s = std::string(kHeader) +
+        "LightSource \"goniometric\" \"string filename\" \"iso.ies\" \"string emission\" \"point\"\n"
+        "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+        "Shape \"sphere\" \"float radius\" [ 3 ]\n"
+        "Meter \"ugr\" \"string name\" \"eye\" \"point3 p\" [ 0 -1.5 -0.5  0 -1.5 -0.5 ]\n"
+        "  \"vector3 direction\" [ 0 1 0  0 -1 0 ]\n";
+    MeasureResult r = measure_string(s, 1e-3, t.dir());
+    ASSERT_EQ(r.readings.size(), 1u);
+    const MeterReading& m = r.readings[0];
+    ASSERT_EQ(m.glare.size(), 2u);
+    const GlareReading& g = m.glare[0];
+    const double Lb = rho / kPi * I0 / (R * R) / (1 - rho);
+    EXPECT_NEAR(g.background_luminance, Lb, 4 * g.indirect_stderr / kPi);
+    // The luminaire seen from the eye: r^2 = 1.5^2 + 0.5^2, cos(gamma) = 0.5 / r; the line
+    // of sight +y, the luminaire straight above it (tau = 0), sigma = atan(0.5 / 1.5).
+    const double r2 = 1.5 * 1.5 + 0.5 * 0.5, A = W * L * 0.5 / std::sqrt(r2);
+    const double sigma = std::atan2(0.5, 1.5) * 180 / kPi, tau = 0;
+    const double p = std::exp((35.2 - 0.31889 * tau - 1.22 * std::exp(-2 * tau / 9)) * 1e-3 * sigma +
+                              (21 + 0.26667 * tau - 0.002963 * tau * tau) * 1e-5 * sigma * sigma);
+    const double term = (I0 / A) * (I0 / A) * (A / r2) / (p * p);
+    ASSERT_EQ(g.sources.size(), 1u);
+    EXPECT_TRUE(g.sources[0].counted);
+    EXPECT_NEAR(g.sources[0].position_index, p, 1e-6 * p);  // float geometry
+    EXPECT_NEAR(g.sources[0].projected_area, A, 1e-6 * A);
+    EXPECT_NEAR(g.sources[0].term, term, 1e-5 * term);
+    const double ugr = 8 * std::log10(0.25 / Lb * term);
+    ASSERT_TRUE(g.defined);
+    EXPECT_NEAR(m.values[0], ugr, 4 * m.stderrs[0] + 1e-9);
+    EXPECT_GT(m.stderrs[0], 0);
+    EXPECT_EQ(m.meter.unit(), "UGR");
+    // Looking the other way: behind the observer, not counted; the rating is undefined (0).
+    EXPECT_FALSE(m.glare[1].defined);
+    EXPECT_FALSE(m.glare[1].sources[0].counted);
+    EXPECT_EQ(m.values[1], 0);
+}
+
+// A glare meter's parameters are checked where they are written.
+TEST(Glare, MeterParametersAreChecked) {
+    auto error_of = [](const std::string& meter) {
+        try {
+            build_scene(parse_pbrt_string(std::string(kHeader) + meter, "<test>"), {});
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(error_of("Meter \"ugr\" \"point3 p\" [0 0 0] \"vector3 direction\" [0 0 1]\n")
+                  .find("must not be parallel to \"up\""),
+              std::string::npos);
+    EXPECT_NE(error_of("Meter \"ugr\" \"point3 p\" [0 0 0] \"vector3 direction\" [1 0 0] "
+                       "\"string component\" \"all\"\n")
+                  .find("takes no \"component\""),
+              std::string::npos);
+    EXPECT_NE(error_of("Meter \"ugr\" \"point3 p\" [0 0 0]\n").find("vector3 direction"),
+              std::string::npos);
+    EXPECT_EQ(error_of("Meter \"ugr\" \"point3 p\" [0 0 0] \"vector3 direction\" [0 0 1] "
+                       "\"vector3 up\" [0 1 0]\n"),
+              "");
 }
 
 }  // namespace

@@ -406,6 +406,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         r.avg_stderr = std::sqrt(var) / cnt;
         r.uniformity = r.avg > 0 ? r.min / r.avg : 0;
     }
+    apply_glare(scene, res);  // glare meters: E_ind -> UGR
     res.interrupted = opt.stop && opt.stop->load();
     const MeasureState total = state_so_far();
     res.paths = total.paths;
@@ -530,6 +531,38 @@ std::string meters_json(const MeasureResult& res) {
             j["min"] = r.min;
             j["max"] = r.max;
             j["uniformity"] = r.uniformity;
+        }
+        if (m.glare) {
+            j["up"] = {m.glare_up.x, m.glare_up.y, m.glare_up.z};
+            nlohmann::ordered_json gs = nlohmann::ordered_json::array();
+            for (const GlareReading& g : r.glare) {
+                nlohmann::ordered_json gj;
+                gj["defined"] = g.defined;
+                gj["in_cie117_range"] = g.in_range;
+                gj["indirect_illuminance"] = g.indirect_illuminance;
+                gj["indirect_stderr"] = g.indirect_stderr;
+                gj["background_luminance"] = g.background_luminance;
+                if (!g.note.empty()) gj["note"] = g.note;
+                nlohmann::ordered_json srcs = nlohmann::ordered_json::array();
+                for (const GlareSource& s : g.sources) {
+                    nlohmann::ordered_json sj;
+                    sj["file"] = s.file;
+                    sj["position"] = {s.position.x, s.position.y, s.position.z};
+                    sj["counted"] = s.counted;
+                    sj["distance"] = s.distance;
+                    sj["intensity"] = s.intensity;
+                    sj["projected_area"] = s.projected_area;
+                    sj["solid_angle"] = s.solid_angle;
+                    sj["luminance"] = s.luminance;
+                    sj["position_index"] = s.position_index;
+                    sj["term"] = s.term;
+                    if (!s.note.empty()) sj["note"] = s.note;
+                    srcs.push_back(std::move(sj));
+                }
+                gj["luminaires"] = std::move(srcs);
+                gs.push_back(std::move(gj));
+            }
+            j["glare"] = std::move(gs);
         }
         meters.push_back(std::move(j));
     }

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "steradian/geometry/hit.h"
+#include "steradian/integrators/glare.h"
 #include "steradian/sensors/meter.h"
 #include "steradian/spectrum/sampled.h"
 
@@ -91,6 +92,8 @@ struct MeterReading {
     std::vector<uint8_t> converged; ///< reached the target
     /// Grids: mean, its standard error, minimum, maximum and uniformity U0 = min / mean.
     double avg = 0, avg_stderr = 0, min = 0, max = 0, uniformity = 0;
+    /// Glare meters: per point, the rating's details (values and stderrs are the ratings).
+    std::vector<GlareReading> glare;
 };
 
 struct MeasureResult {

@@ -149,8 +149,9 @@ std::string keyword(const PhotometricData& d, std::initializer_list<const char*>
     return "";
 }
 
-void row(std::string& h, const std::string& name, const std::string& value_html) {
-    h += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", html_escape(name), value_html);
+/// A table row; both cells are HTML (callers escape what comes from files or the scene).
+void row(std::string& h, const std::string& name_html, const std::string& value_html) {
+    h += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", name_html, value_html);
 }
 
 std::string luminaire_section(const LuminaireGroup& grp, size_t index) {
@@ -556,7 +557,7 @@ svg .ax{font-size:11px;fill:#333}svg .cl{font-size:11px;fill:#111;paint-order:st
               "gather rays reading the radiosity solution)"
             : "path tracing (Monte Carlo, light sampling and BSDF sampling combined by multiple "
               "importance sampling)");
-    for (const auto& [k, v] : r.method_figures) row(h, r.method + ": " + k, num(v));
+    for (const auto& [k, v] : r.method_figures) row(h, html_escape(r.method + ": " + k), num(v));
     row(h, "Target relative standard error", fmt::format("{:.3g} %", 100 * r.rel_error_target));
     row(h, "Largest relative standard error reached", fmt::format("{:.3g} %", 100 * worst));
     row(h, "Values", fmt::format("{} ({} not at the target{})", values, unconverged,
@@ -637,10 +638,57 @@ svg .ax{font-size:11px;fill:#333}svg .cl{font-size:11px;fill:#111;paint-order:st
         h += "</section>\n";
     }
 
+    // ---- glare
+    bool any_glare = false;
+    for (const MeterReading& rd : r.readings) {
+        if (!rd.meter.glare) continue;
+        if (!any_glare)
+            h += "<h2>Discomfort glare (UGR, CIE 117:1995)</h2>\n<p class=\"note\">UGR = 8 "
+                 "log<sub>10</sub>(0.25 / L<sub>b</sub> &Sigma; L&sup2;&omega; / p&sup2;): "
+                 "L<sub>b</sub> = E<sub>ind</sub> / &pi; from the indirect illuminance at the "
+                 "eye, L and &omega; of each luminaire's luminous opening seen from the eye, p "
+                 "Guth's position index (Levin's form). CIE 117 holds for 10 &le; UGR &le; 30 "
+                 "and luminaires of 0.0003 to 0.1 sr; its position index covers luminaires "
+                 "above the line of sight.</p>\n";
+        any_glare = true;
+        for (size_t k = 0; k < rd.glare.size(); ++k) {
+            const GlareReading& g = rd.glare[k];
+            const Point3 e = rd.meter.points[k];
+            const Vec3 v = rd.meter.directions[k];
+            h += fmt::format("<h3>{}: eye at ({}, {}, {}) looking towards ({}, {}, {})</h3>\n",
+                             html_escape(rd.meter.name), num(e.x), num(e.y), num(e.z), num(v.x),
+                             num(v.y), num(v.z));
+            h += "<table class=\"kv\">\n";
+            row(h, "UGR", g.defined ? fmt::format("{:.1f} &plusmn; {:.2g}", g.ugr, g.ugr_stderr)
+                                    : std::string("undefined"));
+            row(h, "Background luminance L<sub>b</sub>",
+                num(g.background_luminance) + " cd/m&sup2;");
+            row(h, "Indirect illuminance at the eye",
+                fmt::format("{} &plusmn; {} lx", num(g.indirect_illuminance),
+                            num(g.indirect_stderr)));
+            row(h, "Within CIE 117's validity", g.in_range ? "yes" : "no");
+            if (!g.note.empty()) row(h, "Note", html_escape(g.note));
+            h += "</table>\n<table><tr><th>Luminaire</th><th>Position</th><th>r (m)</th>"
+                 "<th>I (cd)</th><th>A (m&sup2;)</th><th>&omega; (sr)</th><th>L (cd/m&sup2;)</th>"
+                 "<th>p</th><th>L&sup2;&omega;/p&sup2;</th><th>Remark</th></tr>\n";
+            for (const GlareSource& s : g.sources)
+                h += fmt::format(
+                    "<tr><td>{}</td><td>({}, {}, {})</td><td>{}</td><td>{}</td><td>{}</td>"
+                    "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                    html_escape(s.file), num(s.position.x), num(s.position.y), num(s.position.z),
+                    num(s.distance), num(s.intensity), num(s.projected_area),
+                    s.counted ? num(s.solid_angle) : "&mdash;",
+                    s.counted ? num(s.luminance) : "&mdash;",
+                    s.position_index > 0 ? num(s.position_index) : "&mdash;",
+                    s.counted ? num(s.term) : "not counted", html_escape(s.note));
+            h += "</table>\n";
+        }
+    }
+
     // ---- point and luminance meters
     bool any_point = false;
     for (const MeterReading& rd : r.readings) {
-        if (rd.meter.kind == MeterKind::Grid) continue;
+        if (rd.meter.kind == MeterKind::Grid || rd.meter.glare) continue;
         if (!any_point)
             h += "<h2>Meters</h2>\n<table><tr><th>Meter</th><th>Type</th><th>Point</th>"
                  "<th>Value</th><th>Standard error</th><th>Unit</th></tr>\n";

@@ -6,6 +6,7 @@ namespace sr {
 
 std::string Meter::unit() const {
     bool radiometric = weighting == MeterWeighting::Radiometric;
+    if (glare) return "UGR";
     if (kind == MeterKind::Luminance) return radiometric ? "W/(m2 sr)" : "cd/m2";
     return radiometric ? "W/m2" : "lx";
 }

@@ -46,8 +46,15 @@ struct Meter {
     /// The medium the measuring points are in (Scene::media index, -1: none): the outside
     /// medium of the MediumInterface in effect at the Meter directive.
     int medium = -1;
+    /// A glare meter (`Meter "ugr"`): each point is an observer's eye looking along its
+    /// `directions` entry with `glare_up` up. The measurement estimates the indirect
+    /// illuminance on the eye's plane facing the view (a Point meter, component Indirect);
+    /// measure() then turns it into the unified glare rating (integrators/glare.h).
+    bool glare = false;
+    Vec3 glare_up{0, 0, 1};
 
-    /// "lx", "W/m2", "cd/m2", "W/(m2 sr)" (scotopic values carry the same unit names).
+    /// "lx", "W/m2", "cd/m2", "W/(m2 sr)" (scotopic values carry the same unit names);
+    /// "UGR" for a glare meter (dimensionless).
     std::string unit() const;
     /// Spectral weight w(lambda) turning scene-unit spectral values into the meter's unit
     /// (docs/units.md: photopic = ybar, scotopic = (K'_m / K_m) V', radiometric = 1 / K_m).

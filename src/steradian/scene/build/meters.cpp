@@ -65,10 +65,23 @@ Meter build_meter(const MeterDesc& d, size_t index) {
     } else if (d.type == "luminance" || d.type == "radiance") {
         m.kind = MeterKind::Luminance;
         radiometric = d.type == "radiance";
+    } else if (d.type == "ugr") {
+        // CIE 117:1995's unified glare rating: photopic, from the indirect illuminance at the
+        // eye (the background luminance) and the luminaires in view (integrators/glare.h).
+        m.kind = MeterKind::Point;
+        m.glare = true;
+        radiometric = false;
+        for (const char* bad : {"vision", "component", "n", "maxdepth"})
+            if (const Param* p = ps.find(bad))
+                throw_error(p->loc,
+                            "{}: a glare meter takes no \"{}\" (it is photopic and reads the "
+                            "indirect illuminance on the eye's plane facing \"direction\")",
+                            what, bad);
     } else {
         throw_error(d.loc,
                     "unknown meter type \"{}\" (expected \"illuminance\", \"irradiance\", "
-                    "\"illuminancegrid\", \"irradiancegrid\", \"luminance\" or \"radiance\")",
+                    "\"illuminancegrid\", \"irradiancegrid\", \"luminance\", \"radiance\" "
+                    "or \"ugr\")",
                     d.type);
     }
     m.name = ps.get_string("name", fmt::format("{}{}", d.type, index + 1));
@@ -99,7 +112,25 @@ Meter build_meter(const MeterDesc& d, size_t index) {
                         what, comp);
     }
 
-    if (m.kind == MeterKind::Point) {
+    if (m.glare) {
+        m.component = MeterComponent::Indirect;
+        require(ps, "p", d.loc, what, "point3 p");
+        for (Vec3 v : vec3s(ps, "p", ParamType::Point3)) m.points.push_back(x.point(Point3(v)));
+        const Param* pd = require(ps, "direction", d.loc, what, "vector3 direction");
+        m.directions = per_point(vec3s(ps, "direction", ParamType::Vector3), m.points.size(), pd,
+                                 false, x, what);
+        Vec3 up(0, 0, 1);
+        const Param* pu = ps.find("up", ParamType::Vector3);
+        if (pu) up = per_point(vec3s(ps, "up", ParamType::Vector3), 1, pu, false, x, what)[0];
+        else up = normalize(x.vector(up));
+        for (Vec3 v : m.directions)
+            if (std::abs(dot(v, up)) > 1 - 1e-6f)
+                throw_error(pu ? pu->loc : pd->loc,
+                            "{}: the view \"direction\" must not be parallel to \"up\" "
+                            "(default [0 0 1]: give \"vector3 up\")",
+                            what);
+        m.glare_up = up;
+    } else if (m.kind == MeterKind::Point) {
         require(ps, "p", d.loc, what, "point3 p");
         for (Vec3 v : vec3s(ps, "p", ParamType::Point3)) m.points.push_back(x.point(Point3(v)));
         const Param* pn = require(ps, "n", d.loc, what, "normal n");
