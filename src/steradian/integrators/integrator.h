@@ -73,6 +73,11 @@ struct RenderStats {
     /// bdpt's visualizestrategies / visualizeweights images, named as pbrt-v4 names them
     /// (bdpt_dDD_sSS_tTT.exr).
     std::vector<std::pair<std::string, Image>> strategy_images;
+    /// Distributed bdpt / lightpath (the splat reduction, docs/distributed.md): the splats
+    /// the coordinator added in tile order, the bytes of the workers' splat lists it
+    /// received, and the wall seconds its thread spent adding them.
+    uint64_t dist_splats = 0, dist_splat_bytes = 0;
+    double dist_splat_seconds = 0;
 };
 
 /// Renders `scene` into `film` with the scene's integrator. Throws sr::Error for

@@ -676,7 +676,9 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     remote.paths += br.get<uint64_t>();
                     remote.rays += br.get<uint64_t>();
                     remote.nonfinite += br.get<uint64_t>();
+                    const size_t at = br.left();
                     get_splats(br, recs[i], n_strategy);
+                    stats.dist_splat_bytes += at - br.left();
                     progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) * uint64_t(s1 - s0));
                 };
                 ph.local = [&](const std::function<std::optional<size_t>()>& claim,
@@ -703,9 +705,13 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     });
                 };
                 ph.reduce = [&](size_t i) {
+                    const auto r0 = Clock::now();
                     remote.nonfinite += rec_nonfinite[i];
                     add_splats(recs[i]);
+                    stats.dist_splats += recs[i].size();
                     std::vector<SplatRecord>().swap(recs[i]);
+                    stats.dist_splat_seconds +=
+                        std::chrono::duration<double>(Clock::now() - r0).count();
                 };
                 ph.abandon = budget_spent;
                 if (!coord->run(ph)) out_of_time = true;
