@@ -622,7 +622,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
         std::fprintf(stderr, "  NaN/Inf samples %llu discarded\n",
                      (unsigned long long)st.nonfinite);
         if (st.dist_splats > 0)
-            std::fprintf(stderr, "  splats          %llu added in tile order in %.2f s; %s of "
+            std::fprintf(stderr, "  splats          %llu added in tile order in %.2f CPU s; %s of "
                          "splat lists from the other processes\n",
                          (unsigned long long)st.dist_splats, st.dist_splat_seconds,
                          human_bytes(size_t(st.dist_splat_bytes)).c_str());

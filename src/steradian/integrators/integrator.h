@@ -75,7 +75,7 @@ struct RenderStats {
     std::vector<std::pair<std::string, Image>> strategy_images;
     /// Distributed bdpt / lightpath (the splat reduction, docs/distributed.md): the splats
     /// the coordinator added in tile order, the bytes of the workers' splat lists it
-    /// received, and the wall seconds its thread spent adding them.
+    /// received, and the CPU seconds its thread spent adding them.
     uint64_t dist_splats = 0, dist_splat_bytes = 0;
     double dist_splat_seconds = 0;
 };
@@ -90,6 +90,8 @@ int render_samples_per_pixel(const Scene& scene, const RenderOptions& options);
 
 /// Process CPU time (user + system) in seconds, and peak resident set size in bytes.
 double process_cpu_seconds();
+/// The calling thread's CPU time (user + system) in seconds.
+double thread_cpu_seconds();
 size_t peak_rss_bytes();
 
 }  // namespace sr

@@ -1,4 +1,5 @@
 #include <sys/resource.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <array>
@@ -33,6 +34,12 @@ double process_cpu_seconds() {
     getrusage(RUSAGE_SELF, &ru);
     return double(ru.ru_utime.tv_sec) + 1e-6 * double(ru.ru_utime.tv_usec) +
            double(ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_stime.tv_usec);
+}
+
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 size_t peak_rss_bytes() {
@@ -705,13 +712,12 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     });
                 };
                 ph.reduce = [&](size_t i) {
-                    const auto r0 = Clock::now();
+                    const double r0 = thread_cpu_seconds();
                     remote.nonfinite += rec_nonfinite[i];
                     add_splats(recs[i]);
                     stats.dist_splats += recs[i].size();
                     std::vector<SplatRecord>().swap(recs[i]);
-                    stats.dist_splat_seconds +=
-                        std::chrono::duration<double>(Clock::now() - r0).count();
+                    stats.dist_splat_seconds += thread_cpu_seconds() - r0;
                 };
                 ph.abandon = budget_spent;
                 if (!coord->run(ph)) out_of_time = true;
