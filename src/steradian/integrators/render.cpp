@@ -622,45 +622,45 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
             };
             const bool lightpath = itype == "lightpath";
             if (!coord) {
-            // Tiles in chunks (bounding the splat lists' memory), added in tile order.
-            const size_t chunk = size_t(std::max(4, 4 * threads));
-            std::vector<std::vector<SplatRecord>> recs(chunk);
-            std::vector<uint64_t> rec_nonfinite(chunk);
-            for (size_t c0 = 0; c0 < tiles.size() && !out_of_time; c0 += chunk) {
-                const size_t c1 = std::min(tiles.size(), c0 + chunk);
-                arena.execute([&] {
-                    tbb::parallel_for(
-                        tbb::blocked_range<size_t>(c0, c1, 1),
-                        [&](const tbb::blocked_range<size_t>& r) {
-                            for (size_t ti = r.begin(); ti < r.end(); ++ti) {
-                                auto& out = recs[ti - c0];
-                                out.clear();
-                                rec_nonfinite[ti - c0] = 0;
-                                if (out_of_time.load(std::memory_order_relaxed)) return;
-                                if (opt.time_budget > 0 && s0 > first_spp &&
-                                    elapsed() > opt.time_budget) {
-                                    out_of_time = true;
-                                    return;
+                // Tiles in chunks (bounding the splat lists' memory), added in tile order.
+                const size_t chunk = size_t(std::max(4, 4 * threads));
+                std::vector<std::vector<SplatRecord>> recs(chunk);
+                std::vector<uint64_t> rec_nonfinite(chunk);
+                for (size_t c0 = 0; c0 < tiles.size() && !out_of_time; c0 += chunk) {
+                    const size_t c1 = std::min(tiles.size(), c0 + chunk);
+                    arena.execute([&] {
+                        tbb::parallel_for(
+                            tbb::blocked_range<size_t>(c0, c1, 1),
+                            [&](const tbb::blocked_range<size_t>& r) {
+                                for (size_t ti = r.begin(); ti < r.end(); ++ti) {
+                                    auto& out = recs[ti - c0];
+                                    out.clear();
+                                    rec_nonfinite[ti - c0] = 0;
+                                    if (out_of_time.load(std::memory_order_relaxed)) return;
+                                    if (opt.time_budget > 0 && s0 > first_spp &&
+                                        elapsed() > opt.time_budget) {
+                                        out_of_time = true;
+                                        return;
+                                    }
+                                    ThreadState& ts = states.local();
+                                    TileSplats sink(film, rec_nonfinite[ti - c0], out,
+                                                    scene.integrator.max_depth,
+                                                    scene.integrator.visualize_weights);
+                                    const auto& tb = tiles[ti];
+                                    render_bidir_tile(scene, *bctx, lightpath, film, ts, tb, s0, s1,
+                                                      pass, sink);
+                                    progress.add(uint64_t(tb[2] - tb[0]) * (tb[3] - tb[1]) *
+                                                 (s1 - s0));
                                 }
-                                ThreadState& ts = states.local();
-                                TileSplats sink(film, rec_nonfinite[ti - c0], out,
-                                                scene.integrator.max_depth,
-                                                scene.integrator.visualize_weights);
-                                const auto& tb = tiles[ti];
-                                render_bidir_tile(scene, *bctx, lightpath, film, ts, tb, s0, s1,
-                                                  pass, sink);
-                                progress.add(uint64_t(tb[2] - tb[0]) * (tb[3] - tb[1]) *
-                                             (s1 - s0));
-                            }
-                        },
-                        tbb::simple_partitioner());
-                });
-                if (out_of_time) break;
-                for (size_t ti = c0; ti < c1; ++ti) {
-                    states.local().nonfinite += rec_nonfinite[ti - c0];
-                    add_splats(recs[ti - c0]);
+                            },
+                            tbb::simple_partitioner());
+                    });
+                    if (out_of_time) break;
+                    for (size_t ti = c0; ti < c1; ++ti) {
+                        states.local().nonfinite += rec_nonfinite[ti - c0];
+                        add_splats(recs[ti - c0]);
+                    }
                 }
-            }
             } else {
                 // Distributed: a tile's splats come back with its sums (or stay here when this
                 // process's threads rendered it), kept per tile until every tile before it is
