@@ -2,7 +2,8 @@
 # steradian-mpi under mpirun (docs/distributed.md): renders and meter readings of 2 and 3
 # processes are bit-identical to the one-process ones (the renderer's determinism rule: the
 # same scene, seed and sample count give the same image and readings however the work is
-# split), a reading keeps its closed form, a dying process fails the job in bounded time,
+# split) for the path tracer, the splatting integrators (bdpt, lightpath) and the radiosity
+# method, a reading keeps its closed form, a dying process fails the job in bounded time,
 # and errors are reported once.
 # Usage: tests/mpi/mpi_test.sh path/to/steradian path/to/steradian-mpi MPIEXEC
 set -u

@@ -74,8 +74,9 @@ struct RenderStats {
     /// (bdpt_dDD_sSS_tTT.exr).
     std::vector<std::pair<std::string, Image>> strategy_images;
     /// Distributed bdpt / lightpath (the splat reduction, docs/distributed.md): the splats
-    /// the coordinator added in tile order, the bytes of the workers' splat lists it
-    /// received, and the CPU seconds its thread spent adding them.
+    /// of the completed passes, which the coordinator added in tile order; the bytes of the
+    /// workers' splat lists it received and the CPU seconds its thread spent adding splats
+    /// (an abandoned pass's included).
     uint64_t dist_splats = 0, dist_splat_bytes = 0;
     double dist_splat_seconds = 0;
 };

@@ -669,6 +669,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                 const size_t nt = grid.count();
                 std::vector<std::vector<SplatRecord>> recs(nt);
                 std::vector<uint64_t> rec_nonfinite(nt, 0);
+                uint64_t pass_splats = 0;  // counted once the pass completes
                 WorkCoordinator::Phase ph;
                 ph.kind = kRenderTiles;
                 ph.header = header;
@@ -715,12 +716,13 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     const double r0 = thread_cpu_seconds();
                     remote.nonfinite += rec_nonfinite[i];
                     add_splats(recs[i]);
-                    stats.dist_splats += recs[i].size();
+                    pass_splats += recs[i].size();
                     std::vector<SplatRecord>().swap(recs[i]);
                     stats.dist_splat_seconds += thread_cpu_seconds() - r0;
                 };
                 ph.abandon = budget_spent;
                 if (!coord->run(ph)) out_of_time = true;
+                if (!out_of_time) stats.dist_splats += pass_splats;
             }
             if (!out_of_time) {
                 film.set_splat_sums(std::move(splat_pass));
