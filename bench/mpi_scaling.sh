@@ -5,8 +5,12 @@
 # Prints per run the wall seconds (the whole mpirun, start-up included, and the render
 # alone as process 0 times it), the CPU seconds of all processes, the speed-up and the
 # parallel efficiency against the one-process render, and checks that every image is
-# bit-identical to the one-process image.
-# Usage: [SPP=32] [RANKS="1 2 3 4"] [BUILD=build/release] bench/mpi_scaling.sh
+# bit-identical to the one-process image. INTEGRATOR=bdpt (or lightpath) renders with that
+# integrator at MAXDEPTH (default 5) instead, and prints the splat reduction's figures
+# (splats added in tile order, the coordinator's seconds adding them, the bytes of splat
+# lists received from the other processes).
+# Usage: [SPP=32] [RANKS="1 2 3 4"] [INTEGRATOR=bdpt [MAXDEPTH=5]] [BUILD=build/release]
+#        bench/mpi_scaling.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD:-build/release}
@@ -19,7 +23,11 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1  # harmless whe
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 scene=scenes/cornell-box.pbrt
-echo "cores: $(nproc); scene: $scene at $spp spp; one thread per process"
+if [ -n "${INTEGRATOR:-}" ]; then
+  sed "s/^Integrator .*/Integrator \"$INTEGRATOR\" \"integer maxdepth\" [ ${MAXDEPTH:-5} ]/" "$scene" > "$tmp/scene.pbrt"
+  scene=$tmp/scene.pbrt
+fi
+echo "cores: $(nproc); scene: scenes/cornell-box.pbrt (${INTEGRATOR:-path}) at $spp spp; one thread per process"
 printf '%-22s %10s %10s %10s %8s %10s %s\n' run "wall(job)" "wall(rnd)" "CPU(all)" speedup efficiency image
 t0=$(date +%s.%N)
 "$one" render "$scene" --spp "$spp" --threads 1 -o "$tmp/ref.pfm" > "$tmp/ref.txt" 2>&1
@@ -38,4 +46,5 @@ for n in $ranks; do
   speedup=$(echo "scale=2; $base / $wall" | bc)
   eff=$(echo "scale=0; 100 * $base / $wall / $n" | bc)
   printf '%-22s %10.2f %10.2f %10.2f %8s %9s%% %s\n' "mpirun -n $n" "$(echo "$t1 - $t0" | bc)" "$wall" "$cpu" "$speedup" "$eff" "$same"
+  grep -h '^  splats' "$tmp/mpi$n.txt" || true
 done

@@ -128,37 +128,51 @@ int g_rank = 0, g_size = 1;
 /// A process other than the coordinator (process 0) of a distributed run.
 bool is_worker() { return g_rank != 0; }
 
-/// Under mpirun, once the scene is loaded (and the outputs checked): every process agrees
-/// that every other one loaded it too (an error elsewhere: this one returns 1 quietly, the
-/// failing ones say why), and that all run the same executable on the same input files
-/// (a node with another build or a stale copy of a file would compute another image). Then
-/// the workers compute what the coordinator hands out until it is done. Returns the exit
-/// status for a worker, or -1 on the coordinator (or alone), which goes on.
-int start_distributed(const sr::Scene& scene, int threads) {
+/// Under mpirun, once the scene is loaded (and the outputs checked, and the radiosity system
+/// solved, which every process does): every process agrees that every other one loaded it
+/// too (an error elsewhere: this one returns 1 quietly, the failing ones say why), that all
+/// run the same executable on the same input files (a node with another build or a stale
+/// copy of a file would compute another image), and that all solved the radiosity system to
+/// the same bits. Then the workers compute what the coordinator hands out until it is done.
+/// Returns the exit status for a worker, or -1 on the coordinator (or alone), which goes on.
+int start_distributed(const sr::Scene& scene, int threads,
+                      const sr::RadiositySolution* radiosity = nullptr) {
 #ifdef STERADIAN_MPI
     if (g_size <= 1) return -1;
     if (g_mpi->count_failed(false) > 0) return 1;
     const std::string mine = sr::executable_id() + " " + sr::inputs_digest();
     const std::string root = g_mpi->broadcast(mine);
     const bool differs = root != mine;
-    const int n = g_mpi->count_failed(differs);
+    const std::string my_solution =
+        radiosity ? fmt::format("{:016x}", radiosity->digest()) : std::string("none");
+    // (Collective: every process takes part, whatever it found above.)
+    const bool other_solution = g_mpi->broadcast(my_solution) != my_solution && !differs;
+    const int n = g_mpi->count_failed(differs || other_solution);
     if (differs)
         std::fprintf(stderr,
                      "error (process %d of %d): another executable or other input files than "
                      "process 0's (executable and file hashes differ): every process must run the "
                      "same build on the same scene files (docs/distributed.md)\n",
                      g_rank, g_size);
+    else if (other_solution)
+        std::fprintf(stderr,
+                     "error (process %d of %d): another radiosity solution than process 0's (its "
+                     "hash %s differs): the processes' solves did not give the same bits "
+                     "(docs/distributed.md)\n",
+                     g_rank, g_size, my_solution.c_str());
     if (n > 0) return 1;
     g_dist_started = true;
     if (!is_worker()) return -1;
     const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
     sr::serve_work(*g_mpi,
-                   {sr::render_job_handler(scene, threads), sr::measure_job_handler(scene, threads)},
+                   {sr::render_job_handler(scene, threads, radiosity),
+                    sr::measure_job_handler(scene, threads, radiosity)},
                    2 * nthreads);
     return 0;
 #else
     (void)scene;
     (void)threads;
+    (void)radiosity;
     return -1;
 #endif
 }
@@ -272,8 +286,8 @@ std::unique_ptr<sr::RadiositySolution> solve_radiosity_for(const sr::Scene& scen
                      rs.seconds);
     }
     for (const std::string& n : rs.notes)
-        std::fprintf(stderr, "steradian: radiosity: %s\n", n.c_str());
-    if (!mesh_out.empty()) {
+        if (!is_worker()) std::fprintf(stderr, "steradian: radiosity: %s\n", n.c_str());
+    if (!mesh_out.empty() && !is_worker()) {
         sr::write_radiosity_ply(*sol, mesh_out);
         if (!quiet) std::fprintf(stderr, "steradian: wrote %s (radiosity mesh)\n", mesh_out.c_str());
     }
@@ -342,18 +356,12 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
         if (!a.radiosity_mesh.empty())
             sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
     }
-    if (const int status = start_distributed(scene, a.threads); status >= 0) return status;
-    std::optional<sr::WorkCoordinator> coord = make_coordinator();
-    const bool distributed = coord && coord->workers() > 0;
     // The method: auto takes radiosity where it models every surface exactly (or the scene
-    // asks for it), and says why. A distributed measurement uses the path tracer (the
-    // radiosity method is not distributed yet).
+    // asks for it), and says why. Distributed, every process decides the same (from the
+    // scene) and solves the radiosity system itself (docs/distributed.md).
     std::string method = a.method, reason = "--method " + a.method, why;
     if (method == "auto") {
-        if (distributed) {
-            method = "path";
-            reason = "auto: the radiosity method is not distributed yet";
-        } else if (scene.integrator.type == "radiosity") {
+        if (scene.integrator.type == "radiosity") {
             method = "radiosity";
             reason = "auto: the scene's Integrator is \"radiosity\"";
         } else if (sr::radiosity_models_exactly(scene, &why)) {
@@ -364,16 +372,18 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
             reason = "auto: " + why;
         }
     }
-    if (distributed && method == "radiosity")
-        throw sr::Error("--method radiosity: the radiosity method is not distributed yet (run "
-                        "steradian, or steradian-mpi without mpirun)");
     if (!a.radiosity_mesh.empty() && method != "radiosity")
         throw sr::Error(fmt::format("--radiosity-mesh: the method is {} ({}), not radiosity",
                                     method, reason));
-    if (!a.quiet) std::fprintf(stderr, "steradian: method %s (%s)\n", method.c_str(), reason.c_str());
+    if (!a.quiet && !is_worker())
+        std::fprintf(stderr, "steradian: method %s (%s)\n", method.c_str(), reason.c_str());
     std::unique_ptr<sr::RadiositySolution> radiosity;
     if (method == "radiosity")
-        radiosity = solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet);
+        radiosity =
+            solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet || is_worker());
+    if (const int status = start_distributed(scene, a.threads, radiosity.get()); status >= 0)
+        return status;
+    std::optional<sr::WorkCoordinator> coord = make_coordinator();
     sr::MeasureOptions mo;
     mo.radiosity = radiosity.get();
     mo.replicas = a.replicas;
@@ -533,15 +543,15 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
             sr::check_output_path(a.radiosity_mesh, "--radiosity-mesh");
         }
     }
-    if (const int status = start_distributed(scene, a.threads); status >= 0) return status;
-    std::optional<sr::WorkCoordinator> coord = make_coordinator();
+    // Integrator "radiosity": every process solves the system (the same one: the solve is
+    // deterministic, and start_distributed checks the solutions' hashes).
     std::unique_ptr<sr::RadiositySolution> radiosity;
-    if (scene.integrator.type == "radiosity") {
-        if (coord && coord->workers() > 0)
-            throw sr::Error("Integrator \"radiosity\" is not distributed yet (run steradian, or "
-                            "steradian-mpi without mpirun)");
-        radiosity = solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet);
-    }
+    if (scene.integrator.type == "radiosity")
+        radiosity =
+            solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet || is_worker());
+    if (const int status = start_distributed(scene, a.threads, radiosity.get()); status >= 0)
+        return status;
+    std::optional<sr::WorkCoordinator> coord = make_coordinator();
     sr::Film film(scene.film);
     sr::RenderOptions ro;
     ro.spp = a.spp;
@@ -622,6 +632,11 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
         std::fprintf(stderr, "  peak memory     %s\n", human_bytes(st.peak_rss_bytes).c_str());
         std::fprintf(stderr, "  NaN/Inf samples %llu discarded\n",
                      (unsigned long long)st.nonfinite);
+        if (st.dist_splats > 0)
+            std::fprintf(stderr, "  splats          %llu added in tile order in %.2f CPU s; %s of "
+                         "splat lists from the other processes\n",
+                         (unsigned long long)st.dist_splats, st.dist_splat_seconds,
+                         human_bytes(size_t(st.dist_splat_bytes)).c_str());
     } else if (st.time_limited) {
         std::fprintf(stderr, "steradian: time budget reached after %d samples per pixel\n", st.spp);
     }

@@ -2,7 +2,8 @@
 # steradian-mpi under mpirun (docs/distributed.md): renders and meter readings of 2 and 3
 # processes are bit-identical to the one-process ones (the renderer's determinism rule: the
 # same scene, seed and sample count give the same image and readings however the work is
-# split), a reading keeps its closed form, a dying process fails the job in bounded time,
+# split) for the path tracer, the splatting integrators (bdpt, lightpath) and the radiosity
+# method, a reading keeps its closed form, a dying process fails the job in bounded time,
 # and errors are reported once.
 # Usage: tests/mpi/mpi_test.sh path/to/steradian path/to/steradian-mpi MPIEXEC
 set -u
@@ -116,6 +117,88 @@ run 2 measure "$tmp/point.pbrt" --csv "$tmp/point.csv" -q > /dev/null 2>&1
 desk=$(awk -F, '$1 == "desk" && $4 == 0 {print $8}' "$tmp/point.csv")
 check "mpirun -n 2 measure: E = 100/2^2 = 25 lx (to 0.1 %)" \
   awk -v v="$desk" 'BEGIN { exit !(v > 24.975 && v < 25.025) }'
+
+# The splatting integrators (bdpt, lightpath: light subpaths land in any pixel) and the
+# radiosity method, on a room of triangles lit by a quad light (the radiosity system meshes
+# triangles): each process renders its tiles as one process does, the splats are added in
+# tile order, every process solves the same radiosity system. The one-process images at 1
+# and 2 threads are the reference (the single-process rule), 72 samples per pixel (two
+# passes: the second continues the first's splat sums).
+cat > "$tmp/room.pbrt" <<'SCENE'
+LookAt 0 1.5 -4  0 0.5 0  0 1 0
+Camera "perspective" "float fov" [ 50 ]
+Film "rgb" "integer xresolution" [ 40 ] "integer yresolution" [ 30 ] "string filename" "r.pfm"
+Sampler "zsobol" "integer pixelsamples" [ 72 ]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 6 6 6 ]
+  Shape "trianglemesh" "point3 P" [ -0.5 2.5 -0.5  -0.5 2.5 0.5  0.5 2.5 0.5  0.5 2.5 -0.5 ] "integer indices" [ 0 2 1 0 3 2 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.6 0.5 0.4 ]
+Shape "trianglemesh" "point3 P" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "rgb reflectance" [ 0.2 0.7 0.3 ]
+Shape "trianglemesh" "point3 P" [ -3 0 2  3 0 2  3 3 2  -3 3 2 ] "integer indices" [ 0 1 2 0 2 3 ]
+Meter "illuminance" "string name" "floor" "point3 p" [ 1 0 0  -1 0 0.5 ] "normal n" [ 0 1 0 ]
+SCENE
+not_black() {  # not_black IMAGE.pfm : some pixel is positive (the splats reached the film)
+  python3 - "$1" <<'PY'
+import struct, sys
+d = open(sys.argv[1], "rb").read()
+parts = d.split(b"\n", 3)
+w, h = map(int, parts[1].split()); scale = float(parts[2])
+fmt = ("<" if scale < 0 else ">") + "f" * (3 * w * h)
+v = struct.unpack(fmt, parts[3][: 12 * w * h])
+sys.exit(0 if max(v) > 0 else 1)
+PY
+}
+for integ in bdpt lightpath radiosity; do
+  { echo "Integrator \"$integ\" \"integer maxdepth\" [ 4 ]"; cat "$tmp/room.pbrt"; } > "$tmp/$integ.pbrt"
+  "$one" render "$tmp/$integ.pbrt" -o "$tmp/$integ-ref.pfm" --threads 1 --quiet
+  "$one" render "$tmp/$integ.pbrt" -o "$tmp/$integ-t2.pfm" --threads 2 --quiet
+  check "$integ: one process, 1 and 2 threads: the same image" cmp -s "$tmp/$integ-ref.pfm" "$tmp/$integ-t2.pfm"
+  check "$integ: the image is not black" not_black "$tmp/$integ-ref.pfm"
+  for n in 2 3; do
+    run "$n" render "$tmp/$integ.pbrt" -o "$tmp/$integ-$n.pfm" --threads 1 --quiet > "$tmp/$integ-$n.txt" 2>&1
+    check "mpirun -n $n render ($integ) exits 0" test $? -eq 0
+    check "mpirun -n $n render ($integ): the image is bit-identical to one process's" cmp -s "$tmp/$integ-ref.pfm" "$tmp/$integ-$n.pfm"
+  done
+done
+# Many tiles (9 x 6 = 54, more than the 32 whose splats the coordinator keeps apart at once
+# with one thread a process): the window holds the hand-out back, the order stays.
+sed -e 's/\[ 40 \]/[ 144 ]/; s/\[ 30 \]/[ 96 ]/; s/\[ 72 \]/[ 8 ]/' "$tmp/bdpt.pbrt" > "$tmp/wide.pbrt"
+"$one" render "$tmp/wide.pbrt" -o "$tmp/wide-ref.pfm" --threads 1 --quiet
+run 2 render "$tmp/wide.pbrt" -o "$tmp/wide-2.pfm" --threads 1 --quiet > "$tmp/wide-2.txt" 2>&1
+check "mpirun -n 2 render (bdpt, 54 tiles) exits 0" test $? -eq 0
+check "mpirun -n 2 render (bdpt, 54 tiles): the image is bit-identical" cmp -s "$tmp/wide-ref.pfm" "$tmp/wide-2.pfm"
+# The radiosity method's readings: measure --method radiosity, --method auto (which takes it:
+# every surface is a diffuse triangle), and the meters a radiosity render writes.
+same_readings() {  # same_readings A.json B.json : every value, error and sample count
+  python3 - "$1" "$2" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+key = lambda d: [(m["name"], m["values"], m["stderr"], m["samples"], m["converged"]) for m in d["meters"]]
+sys.exit(0 if key(a) == key(b) and a["method"] == b["method"] == "radiosity" else 1)
+PY
+}
+for method in radiosity auto; do
+  "$one" measure "$tmp/room.pbrt" --method "$method" --rel-error 0.01 --threads 1 --json "$tmp/rad1-$method.json" -q > /dev/null 2>&1
+  for n in 2 3; do
+    run "$n" measure "$tmp/room.pbrt" --method "$method" --rel-error 0.01 --threads 1 --json "$tmp/rad$n-$method.json" -q > "$tmp/rad$n-$method.txt" 2>&1
+    check "mpirun -n $n measure --method $method exits 0" test $? -eq 0
+    check "mpirun -n $n measure --method $method: the readings equal one process's" same_readings "$tmp/rad1-$method.json" "$tmp/rad$n-$method.json"
+  done
+done
+for n in 2 3; do
+  check "mpirun -n $n render (radiosity): the meters' readings equal one process's" same_readings "$tmp/radiosity-ref.meters.json" "$tmp/radiosity-$n.meters.json"
+done
+# A worker dying mid-render of bdpt (the coordinator may be waiting for the splat window)
+# still ends the job.
+start=$SECONDS
+STERADIAN_TEST_ABORT_AFTER_JOBS=1 run 2 render "$tmp/wide.pbrt" -o "$tmp/dead-bdpt.pfm" --threads 1 --quiet > "$tmp/dead-bdpt.txt" 2>&1
+status=$?
+check "bdpt: a dying process fails the job (status $status)" test "$status" -ne 0 -a "$status" -ne 124
+check "... within 60 s" test $((SECONDS - start)) -lt 60
+check "... and writes no image" test ! -e "$tmp/dead-bdpt.pfm"
 
 # A process that dies mid-render ends the job: non-zero status, in bounded time, with a
 # message naming it (Open MPI aborts the job when a process exits abnormally).

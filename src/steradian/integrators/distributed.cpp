@@ -4,7 +4,9 @@
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
+#include <memory>
 #include <thread>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -64,19 +66,47 @@ bool WorkCoordinator::run(const Phase& ph) {
     const int nproc = m_msg.size();
     m_waiting.resize(size_t(nproc), 0);
     const size_t n = ph.items;
+    // With a window, items are reduced as the completed ones form a prefix (`reduced` of
+    // them so far), and none is handed out at or beyond reduced + window.
+    const bool windowed = ph.reduce && ph.window > 0;
+    std::unique_ptr<std::atomic<uint8_t>[]> complete;
+    if (windowed) {
+        complete.reset(new std::atomic<uint8_t>[n]);
+        for (size_t i = 0; i < n; ++i) complete[i].store(0, std::memory_order_relaxed);
+    }
+    std::atomic<size_t> reduced{0};
+    auto limit = [&] {
+        return windowed ? std::min(n, reduced.load(std::memory_order_acquire) + ph.window) : n;
+    };
     std::atomic<size_t> next{0};
     std::atomic<bool> stop{false};
     std::atomic<bool> local_done{!ph.local};
+    // Takes up to `want` consecutive items below the limit: {first, count}; count 0: none now.
+    auto take = [&](size_t want) -> std::pair<size_t, size_t> {
+        size_t at = next.load();
+        for (;;) {
+            const size_t lim = limit();
+            if (at >= lim) return {at, 0};
+            const size_t k = std::min(want, lim - at);
+            if (next.compare_exchange_weak(at, at + k)) return {at, k};
+        }
+    };
     auto claim = [&]() -> std::optional<size_t> {
-        if (stop.load(std::memory_order_relaxed)) return std::nullopt;
-        const size_t i = next.fetch_add(1);
-        if (i >= n) return std::nullopt;
-        return i;
+        for (;;) {
+            if (stop.load(std::memory_order_relaxed)) return std::nullopt;
+            const auto [i, k] = take(1);
+            if (k == 1) return i;
+            if (i >= n) return std::nullopt;
+            std::this_thread::sleep_for(kPoll);  // the window is full: wait for the reduction
+        }
+    };
+    auto done = [&](size_t i) {
+        if (windowed && i < n) complete[i].store(1, std::memory_order_release);
     };
     std::thread local;
     if (ph.local)
         local = std::thread([&] {
-            ph.local(claim);
+            ph.local(claim, done);
             local_done = true;
         });
     auto join_local = [&] {
@@ -96,11 +126,10 @@ bool WorkCoordinator::run(const Phase& ph) {
                 const size_t at = next.load();
                 if (at >= n) break;
                 const size_t left = n - at;
-                size_t k = std::clamp<size_t>((left + 2 * size_t(nproc) - 1) / (2 * size_t(nproc)),
-                                              1, size_t(cap));
-                const size_t first = next.fetch_add(k);
-                if (first >= n) break;
-                k = std::min(k, n - first);
+                const size_t want = std::clamp<size_t>(
+                    (left + 2 * size_t(nproc) - 1) / (2 * size_t(nproc)), 1, size_t(cap));
+                const auto [first, k] = take(want);
+                if (k == 0) break;
                 std::vector<char> job = message(kJob);
                 ByteWriter bw(job);
                 bw.put(ph.kind);
@@ -115,6 +144,15 @@ bool WorkCoordinator::run(const Phase& ph) {
                 m_msg.send(w, job);
                 m_waiting[size_t(w)] = 0;
                 outstanding += k;
+            }
+            bool progressed = false;
+            if (windowed && !stop) {
+                size_t r = reduced.load(std::memory_order_relaxed);
+                while (r < n && complete[r].load(std::memory_order_acquire)) {
+                    ph.reduce(r);
+                    reduced.store(++r, std::memory_order_release);
+                    progressed = true;
+                }
             }
             if (m_msg.try_receive(msg, from)) {
                 ByteReader br(msg.data(), msg.size());
@@ -131,6 +169,7 @@ bool WorkCoordinator::run(const Phase& ph) {
                         const uint64_t item = br.get<uint64_t>();
                         if (item >= n) throw Error("distributed: an output of no item");
                         ph.output(size_t(item), br);
+                        done(size_t(item));
                     }
                     outstanding -= count;
                 } else {
@@ -142,7 +181,7 @@ bool WorkCoordinator::run(const Phase& ph) {
             if (!stop && ph.abandon && ph.abandon()) stop = true;
             if (stop) break;
             if (local_done && outstanding == 0 && next.load() >= n) break;
-            std::this_thread::sleep_for(kPoll);
+            if (!progressed) std::this_thread::sleep_for(kPoll);
         }
     } catch (...) {
         stop = true;
@@ -152,7 +191,7 @@ bool WorkCoordinator::run(const Phase& ph) {
     join_local();
     if (stop) return false;
     if (ph.reduce)
-        for (size_t i = 0; i < n; ++i) ph.reduce(i);
+        for (size_t i = reduced.load(); i < n; ++i) ph.reduce(i);
     return true;
 }
 

@@ -14,8 +14,9 @@
 /// and the results do not depend on the number of processes, nor on who computed what.
 ///
 /// Order-dependent reductions (the splats of a splatting integrator: bdpt, lightpath) keep
-/// each item's contribution apart and add them in item order once the phase is complete
-/// (Phase::reduce), the order a single process uses; see docs/distributed.md.
+/// each item's contribution apart and add them in item order (Phase::reduce), the order a
+/// single process uses, as the completed items form a prefix; a window bounds how many items
+/// may be kept apart at once (Phase::window); see docs/distributed.md.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -110,15 +111,25 @@ public:
         /// A worker's output of item i (called on the coordinator's thread, in arrival order).
         std::function<void(size_t item, ByteReader&)> output;
         /// The coordinator's own share: called once, on a thread of its own, with a function
-        /// that claims the next item (nullopt: none left); it returns when it gets nullopt.
-        std::function<void(const std::function<std::optional<size_t>()>& claim)> local;
+        /// that claims the next item (nullopt: none left; with a window, it waits while the
+        /// window is full) and one that reports a claimed item's output complete (needed
+        /// with a window, else ignored); it returns when it gets nullopt.
+        std::function<void(const std::function<std::optional<size_t>()>& claim,
+                           const std::function<void(size_t item)>& done)>
+            local;
         /// Polled between messages: true abandons the phase (no further items are handed out;
         /// outputs still in flight are dropped when they arrive).
         std::function<bool()> abandon;
-        /// Called for every item in item order once the phase is complete (not when
-        /// abandoned): the place for reductions whose result depends on the order of their
-        /// terms (splats), which must keep each item's terms apart until then.
+        /// Called for every item in item order, on the coordinator's thread: the place for
+        /// reductions whose result depends on the order of their terms (splats), which must
+        /// keep each item's terms apart until then. Without a window, once the phase is
+        /// complete (not when abandoned); with one, as soon as items 0 .. i are all complete
+        /// (an abandoned phase may then have reduced some of its items: drop the result).
         std::function<void(size_t item)> reduce;
+        /// With `reduce`: when > 0, at most this many items beyond the first one not yet
+        /// reduced are handed out (to workers and to `local`), which bounds the memory of the
+        /// terms kept apart; it should exceed the items all processes compute at once.
+        size_t window = 0;
     };
 
     /// Runs a phase to completion (true) or until `abandon` (false).
@@ -153,10 +164,16 @@ inline constexpr uint8_t kRenderTiles = 0;
 inline constexpr uint8_t kMeasureItems = 1;
 
 class Scene;
+class RadiositySolution;
 /// The worker handler of render()'s tiles and of measure()'s items for `scene`, with
-/// `threads` worker threads (0: all); defined in render.cpp and measure.cpp.
-JobHandler render_job_handler(const Scene& scene, int threads);
-JobHandler measure_job_handler(const Scene& scene, int threads);
+/// `threads` worker threads (0: all); defined in render.cpp and measure.cpp. `radiosity`:
+/// the scene's radiosity solution, which this process solved as the coordinator did (the
+/// same solution: solve_radiosity is deterministic), for passes and rounds of the radiosity
+/// method (null: none here; such a job is an error).
+JobHandler render_job_handler(const Scene& scene, int threads,
+                              const RadiositySolution* radiosity = nullptr);
+JobHandler measure_job_handler(const Scene& scene, int threads,
+                               const RadiositySolution* radiosity = nullptr);
 
 /// A test hook (docs/distributed.md, "A rank that dies"): when the environment variable
 /// STERADIAN_TEST_ABORT_AFTER_JOBS is N > 0, a worker aborts (SIGABRT) after N jobs.

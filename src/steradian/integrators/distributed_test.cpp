@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <deque>
 #include <mutex>
 #include <thread>
@@ -14,6 +15,7 @@
 #include "steradian/film/film.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/measure.h"
+#include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 #include "steradian/scene/scene.h"
@@ -53,8 +55,8 @@ private:
 
 // A lit sphere over a floor, with a crop window (partial tiles), 72 spp (two passes), and a
 // meter with indirect light (several rounds at 2 %).
-Scene test_scene(const std::string& film) {
-    const std::string pbrt = R"(
+Scene test_scene(const std::string& film, const std::string& integrator = "") {
+    const std::string pbrt = integrator + R"(
 LookAt 0 1 -4  0 0.5 0  0 1 0
 Camera "perspective" "float fov" [ 45 ]
 Film ")" + film + R"(" "integer xresolution" [ 37 ] "integer yresolution" [ 29 ]
@@ -75,14 +77,20 @@ Meter "illuminance" "string name" "floor" "point3 p" [ 1.5 0 0  -1.5 0 0 ] "norm
 }
 
 // Runs `coordinate(coordinator)` on this thread with `workers` worker threads.
+// Each worker solves the radiosity system itself when `radiosity` (as steradian-mpi's do).
 template <class F>
-void with_workers(const Scene& scene, int workers, F&& coordinate) {
+void with_workers(const Scene& scene, int workers, F&& coordinate, bool radiosity = false) {
     Hub hub(workers + 1);
     std::vector<std::thread> threads;
     for (int w = 1; w <= workers; ++w)
-        threads.emplace_back([&hub, &scene, w] {
+        threads.emplace_back([&hub, &scene, w, radiosity] {
             LocalMessenger m(hub, w);
-            serve_work(m, {render_job_handler(scene, 1), measure_job_handler(scene, 1)}, 2);
+            std::unique_ptr<RadiositySolution> sol;
+            if (radiosity) sol = solve_radiosity(scene, scene.integrator.radiosity, 1);
+            serve_work(m,
+                       {render_job_handler(scene, 1, sol.get()),
+                        measure_job_handler(scene, 1, sol.get())},
+                       2);
         });
     {
         LocalMessenger m(hub, 0);
@@ -93,22 +101,38 @@ void with_workers(const Scene& scene, int workers, F&& coordinate) {
     for (std::thread& t : threads) t.join();
 }
 
-void expect_same_render(const std::string& film_type, const RenderOptions& base) {
-    const Scene scene = test_scene(film_type);
+void expect_same_render(const std::string& film_type, const RenderOptions& base,
+                        const std::string& integrator = "") {
+    const Scene scene = test_scene(film_type, integrator);
+    const bool radiosity = scene.integrator.type == "radiosity";
+    std::unique_ptr<RadiositySolution> sol;
+    if (radiosity) sol = solve_radiosity(scene, scene.integrator.radiosity, 2);
     Film one(scene.film);
     RenderOptions ro = base;
     ro.threads = 2;
+    ro.radiosity = sol.get();
     const RenderStats s1 = render(scene, one, ro);
     for (int workers : {1, 2}) {
         Film many(scene.film);
-        with_workers(scene, workers, [&](WorkCoordinator& coord) {
-            RenderOptions rd = base;
-            rd.threads = 1;
-            rd.distribute = &coord;
-            const RenderStats s = render(scene, many, rd);
-            EXPECT_EQ(s.spp, s1.spp);
-            EXPECT_EQ(s.camera_paths, s1.camera_paths);
-        });
+        with_workers(
+            scene, workers,
+            [&](WorkCoordinator& coord) {
+                RenderOptions rd = base;
+                rd.threads = 1;
+                rd.distribute = &coord;
+                rd.radiosity = sol.get();
+                const RenderStats s = render(scene, many, rd);
+                EXPECT_EQ(s.spp, s1.spp);
+                EXPECT_EQ(s.camera_paths, s1.camera_paths);
+                EXPECT_EQ(s.rays, s1.rays);
+                ASSERT_EQ(s.strategy_images.size(), s1.strategy_images.size());
+                for (size_t k = 0; k < s1.strategy_images.size(); ++k)
+                    EXPECT_EQ(s.strategy_images[k].second.data, s1.strategy_images[k].second.data)
+                        << s1.strategy_images[k].first;
+            },
+            radiosity);
+        EXPECT_EQ(many.splat_sums(), one.splat_sums()) << integrator;  // bdpt, lightpath
+        EXPECT_EQ(many.rgb_image().data, one.rgb_image().data) << integrator;
         ASSERT_EQ(many.sums().size(), one.sums().size());
         for (size_t i = 0; i < one.sums().size(); ++i) {
             for (int c = 0; c < 3; ++c)
@@ -122,6 +146,21 @@ void expect_same_render(const std::string& film_type, const RenderOptions& base)
 TEST(Distributed, RenderEqualsOneProcessBitForBit) {
     expect_same_render("rgb", {});
     expect_same_render("gbuffer", {});  // auxiliary channels travel with the tiles
+}
+
+TEST(Distributed, SplattingIntegratorsEqualOneProcessBitForBit) {
+    // Their splats land in any pixel; reduced in tile order whoever rendered the tiles.
+    expect_same_render("rgb", {}, R"(Integrator "bdpt" "integer maxdepth" [ 4 ])");
+    expect_same_render("rgb", {}, R"(Integrator "lightpath" "integer maxdepth" [ 4 ])");
+    // visualizestrategies: the strategy images' splats travel too.
+    expect_same_render("rgb", {},
+                       R"(Integrator "bdpt" "integer maxdepth" [ 2 ] "bool visualizestrategies" true)");
+}
+
+TEST(Distributed, RadiosityEqualsOneProcessBitForBit) {
+    // Every process solves the same system (deterministic whatever the threads); the final
+    // gather's tiles are shared as the path tracer's are.
+    expect_same_render("rgb", {}, R"(Integrator "radiosity")");
 }
 
 TEST(Distributed, PacedPassesEqualOneProcess) {
@@ -154,9 +193,11 @@ TEST(Distributed, MeasureEqualsOneProcessBitForBit) {
     }
 }
 
-TEST(Distributed, ReduceSeesEveryItemInItemOrder) {
-    // The splat hook: whoever computed an item, Phase::reduce is called for items 0, 1, ...
-    // once the phase is complete, so an order-dependent sum is the one-process sum.
+// The splat hook: whoever computed an item, Phase::reduce is called for items 0, 1, ... (once
+// the phase is complete, or with a window as the completed items form a prefix), so an
+// order-dependent sum is the one-process sum; with a window, no item is handed out (to a
+// worker or to the coordinator's own threads) at or beyond the first unreduced + window.
+void expect_reduce_in_item_order(size_t window) {
     Hub hub(3);
     const JobHandler square = [](ByteReader&, size_t count, ByteReader& in, ByteWriter& out) {
         for (size_t j = 0; j < count; ++j) {
@@ -177,18 +218,32 @@ TEST(Distributed, ReduceSeesEveryItemInItemOrder) {
     const size_t n = 200;
     std::vector<double> terms(n, -1);
     std::vector<size_t> order;
+    std::atomic<size_t> reduced{0}, beyond{0};
+    auto handed_out = [&](size_t i) {
+        if (window > 0 && i >= reduced.load() + window) ++beyond;
+    };
     WorkCoordinator::Phase ph;
     ph.kind = 2;
     ph.items = n;
-    ph.input = [](size_t i, ByteWriter& bw) { bw.put(0.1 * double(i)); };
+    ph.window = window;
+    ph.input = [&](size_t i, ByteWriter& bw) {
+        handed_out(i);
+        bw.put(0.1 * double(i));
+    };
     ph.output = [&](size_t i, ByteReader& br) { terms[i] = br.get<double>(); };
-    ph.local = [&](const std::function<std::optional<size_t>()>& claim) {
-        while (const std::optional<size_t> i = claim()) terms[*i] = sqr(0.1 * double(*i));
+    ph.local = [&](const std::function<std::optional<size_t>()>& claim,
+                   const std::function<void(size_t)>& done) {
+        while (const std::optional<size_t> i = claim()) {
+            handed_out(*i);
+            terms[*i] = sqr(0.1 * double(*i));
+            done(*i);
+        }
     };
     double sum = 0;
     ph.reduce = [&](size_t i) {
         order.push_back(i);
         sum += terms[i];
+        ++reduced;
     };
     ASSERT_TRUE(coord.run(ph));
     coord.finish();
@@ -198,6 +253,40 @@ TEST(Distributed, ReduceSeesEveryItemInItemOrder) {
     ASSERT_EQ(order.size(), n);
     for (size_t i = 0; i < n; ++i) EXPECT_EQ(order[i], i);
     EXPECT_EQ(sum, expected);  // the same terms added in the same order: the same bits
+    EXPECT_EQ(beyond.load(), 0u) << "items handed out beyond the window";
+}
+
+TEST(Distributed, RadiosityMeasureEqualsOneProcessBitForBit) {
+    const Scene scene = test_scene("rgb", R"(Integrator "radiosity")");
+    const auto sol = solve_radiosity(scene, scene.integrator.radiosity, 2);
+    MeasureOptions mo;
+    mo.rel_error = 0.02;
+    mo.threads = 2;
+    mo.radiosity = sol.get();
+    const MeasureResult one = measure(scene, mo);
+    ASSERT_EQ(one.method, "radiosity");
+    for (int workers : {1, 2}) {
+        with_workers(
+            scene, workers,
+            [&](WorkCoordinator& coord) {
+                MeasureOptions md = mo;
+                md.threads = 1;
+                md.distribute = &coord;
+                const MeasureResult many = measure(scene, md);
+                EXPECT_EQ(many.readings[0].values, one.readings[0].values);
+                EXPECT_EQ(many.readings[0].stderrs, one.readings[0].stderrs);
+                EXPECT_EQ(many.readings[0].samples, one.readings[0].samples);
+                EXPECT_EQ(many.paths, one.paths);
+            },
+            true);
+    }
+}
+
+TEST(Distributed, ReduceSeesEveryItemInItemOrder) { expect_reduce_in_item_order(0); }
+
+TEST(Distributed, WindowedReduceKeepsItemOrderAndTheWindow) {
+    expect_reduce_in_item_order(5);
+    expect_reduce_in_item_order(1);  // one item at a time: no deadlock, the same order
 }
 
 TEST(Distributed, ByteReaderRefusesATruncatedMessage) {

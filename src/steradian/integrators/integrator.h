@@ -73,6 +73,12 @@ struct RenderStats {
     /// bdpt's visualizestrategies / visualizeweights images, named as pbrt-v4 names them
     /// (bdpt_dDD_sSS_tTT.exr).
     std::vector<std::pair<std::string, Image>> strategy_images;
+    /// Distributed bdpt / lightpath (the splat reduction, docs/distributed.md): the splats
+    /// of the completed passes, which the coordinator added in tile order; the bytes of the
+    /// workers' splat lists it received and the CPU seconds its thread spent adding splats
+    /// (an abandoned pass's included).
+    uint64_t dist_splats = 0, dist_splat_bytes = 0;
+    double dist_splat_seconds = 0;
 };
 
 /// Renders `scene` into `film` with the scene's integrator. Throws sr::Error for
@@ -85,6 +91,8 @@ int render_samples_per_pixel(const Scene& scene, const RenderOptions& options);
 
 /// Process CPU time (user + system) in seconds, and peak resident set size in bytes.
 double process_cpu_seconds();
+/// The calling thread's CPU time (user + system) in seconds.
+double thread_cpu_seconds();
 size_t peak_rss_bytes();
 
 }  // namespace sr

@@ -209,9 +209,6 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     // Items computed at once: this process's threads, and as many per other process (an
     // estimate, for sizing the batches between checkpoints).
     const int slots = threads * (coord ? coord->workers() + 1 : 1);
-    if (coord && opt.radiosity)
-        throw Error("measure: the radiosity method is not distributed yet (run steradian, or "
-                    "steradian-mpi without mpirun)");
 
     const int first_round = st.round;  // this run's first round always completes
     double seconds_per_sample = 0;      // wall, of the batches so far
@@ -285,7 +282,9 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                 // left of the budget (the worker's clock then bounds it).
                 WorkCoordinator::Phase ph;
                 ph.kind = kMeasureItems;
-                ByteWriter(ph.header).put(round_seed);
+                ByteWriter hw(ph.header);
+                hw.put(round_seed);
+                hw.put(uint8_t(opt.radiosity ? 1 : 0));  // the method: 0 path, 1 radiosity
                 ph.items = b1 - b0;
                 ph.input = [&](size_t j, ByteWriter& bw) {
                     const size_t item = todo[b0 + j];
@@ -306,7 +305,8 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                     r.nonfinite = br.get<uint64_t>();
                     take(todo[b0 + j], r);
                 };
-                ph.local = [&](const std::function<std::optional<size_t>()>& claim) {
+                ph.local = [&](const std::function<std::optional<size_t>()>& claim,
+                    const std::function<void(size_t)>&) {
                     arena.execute([&] {
                         tbb::parallel_for(
                             0, threads,
@@ -417,7 +417,8 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     return res;
 }
 
-JobHandler measure_job_handler(const Scene& scene, int threads) {
+JobHandler measure_job_handler(const Scene& scene, int threads,
+                               const RadiositySolution* radiosity) {
     struct Worker {
         std::vector<Value> values;
         tbb::task_arena arena;
@@ -425,8 +426,13 @@ JobHandler measure_job_handler(const Scene& scene, int threads) {
             : values(values_of(s)), arena(n > 0 ? n : int(std::thread::hardware_concurrency())) {}
     };
     auto wk = std::make_shared<Worker>(scene, threads);
-    return [&scene, wk](ByteReader& header, size_t count, ByteReader& inputs, ByteWriter& outputs) {
+    return [&scene, wk, radiosity](ByteReader& header, size_t count, ByteReader& inputs,
+                                   ByteWriter& outputs) {
         const uint64_t round_seed = header.get<uint64_t>();
+        const uint8_t method = header.get<uint8_t>();
+        if (method > 1) throw Error("distributed: a meter round of an unknown method");
+        if (method == 1 && !radiosity)
+            throw Error("distributed: a radiosity round, and no radiosity solution here");
         struct Item {
             uint64_t id, vi;
             int32_t replica;
@@ -454,7 +460,8 @@ JobHandler measure_job_handler(const Scene& scene, int threads) {
                 };
                 results[j] = replica_mean(scene, wk->values, size_t(it.vi), it.replica, int(it.n),
                                           round_seed,
-                                          std::isfinite(it.seconds_left) ? &late : nullptr);
+                                          std::isfinite(it.seconds_left) ? &late : nullptr,
+                                          method == 1 ? radiosity : nullptr);
             });
         });
         for (size_t j = 0; j < count; ++j) {

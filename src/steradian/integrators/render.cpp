@@ -1,4 +1,5 @@
 #include <sys/resource.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <array>
@@ -8,6 +9,8 @@
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
 
 #include <tbb/blocked_range2d.h>
@@ -31,6 +34,12 @@ double process_cpu_seconds() {
     getrusage(RUSAGE_SELF, &ru);
     return double(ru.ru_utime.tv_sec) + 1e-6 * double(ru.ru_utime.tv_usec) +
            double(ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_stime.tv_usec);
+}
+
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 size_t peak_rss_bytes() {
@@ -267,6 +276,51 @@ TileCounts render_tile(const Scene& scene, const Film& film, ThreadState& ts, in
             ts.nonfinite - before.nonfinite};
 }
 
+/// Samples [s0, s1) of every pixel of the tile [x0, x1) x [y0, y1) with a bidirectional
+/// integrator: the pixels' estimates added to `pass`, the splats recorded by `sink` in the
+/// order the samples make them (pixels in rows, samples in index order).
+TileCounts render_bidir_tile(const Scene& scene, const BidirContext& ctx, bool lightpath,
+                             const Film& film, ThreadState& ts, const std::array<int, 4>& t,
+                             int s0, int s1, std::vector<PixelSum>& pass, TileSplats& sink) {
+    const TileCounts before{ts.paths, ts.counters.rays, ts.nonfinite};
+    for (int y = t[1]; y < t[3]; ++y)
+        for (int x = t[0]; x < t[2]; ++x) {
+            ts.sampler->start_pixel(Vec2i(x, y), s0, s1);
+            render_bidir_pixel(scene, ctx, lightpath, film, ts, Vec2i(x, y), s0, s1, pass, sink);
+        }
+    return {ts.paths - before.paths, ts.counters.rays - before.rays,
+            ts.nonfinite - before.nonfinite};
+}
+
+/// A tile's splat records in a message (36 bytes each: position, buffer, sensor values),
+/// and read back, exactly.
+void put_splats(ByteWriter& bw, const std::vector<SplatRecord>& recs) {
+    bw.put(uint64_t(recs.size()));
+    for (const SplatRecord& r : recs) {
+        bw.put(r.p.x);
+        bw.put(r.p.y);
+        bw.put(int32_t(r.buffer));
+        bw.put_array(r.xyz.data(), 3);
+    }
+}
+
+void get_splats(ByteReader& br, std::vector<SplatRecord>& recs, int buffers) {
+    const uint64_t n = br.get<uint64_t>();
+    if (n > br.left() / 36) throw Error("distributed: a truncated message");
+    recs.resize(size_t(n));
+    for (SplatRecord& r : recs) {
+        r.p.x = br.get<Float>();
+        r.p.y = br.get<Float>();
+        r.buffer = br.get<int32_t>();
+        if (r.buffer < 0 || r.buffer > buffers)
+            throw Error("distributed: a splat of no image");
+        br.get_array(r.xyz.data(), 3);
+    }
+}
+
+/// What a distributed pass's workers compute (the header's integrator byte).
+enum : uint8_t { kPassPath = 0, kPassRadiosity = 1, kPassBdpt = 2, kPassLightpath = 3 };
+
 constexpr int kTile = 16;
 
 /// The film's crop window in tiles of kTile x kTile pixels, numbered in rows: the items of a
@@ -437,10 +491,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<ThreadState>& states = *rt.states;
     WorkCoordinator* const coord =
         opt.distribute && opt.distribute->workers() > 0 ? opt.distribute : nullptr;
-    if (coord && (bidir || radiosity))
-        throw Error(fmt::format("Integrator \"{}\" is not distributed yet (run steradian, or "
-                                "steradian-mpi without mpirun)",
-                                itype));
     TileCounts remote;  // the workers' share (distributed)
 
     RenderStats stats;
@@ -533,66 +583,6 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         const double pass_t0 = elapsed();
         std::vector<PixelSum> pass = film.sums();
         std::vector<double> aux = film.aux_sums();
-        if (bidir) {
-            std::vector<double> splat_pass = film.splat_sums();
-            std::vector<std::vector<double>> strategy_pass = strategy_sums;
-            // Tiles in chunks: each tile's splats are kept in its own list while the chunk
-            // renders, then added in tile order (the splat reduction; a distributed render
-            // would sum the films' splat_sums() across processes in a fixed order the same way).
-            const size_t chunk = size_t(std::max(4, 4 * threads));
-            std::vector<std::vector<SplatRecord>> recs(chunk);
-            std::vector<uint64_t> rec_nonfinite(chunk);
-            for (size_t c0 = 0; c0 < tiles.size() && !out_of_time; c0 += chunk) {
-                const size_t c1 = std::min(tiles.size(), c0 + chunk);
-                arena.execute([&] {
-                    tbb::parallel_for(
-                        tbb::blocked_range<size_t>(c0, c1, 1),
-                        [&](const tbb::blocked_range<size_t>& r) {
-                            for (size_t ti = r.begin(); ti < r.end(); ++ti) {
-                                auto& out = recs[ti - c0];
-                                out.clear();
-                                rec_nonfinite[ti - c0] = 0;
-                                if (out_of_time.load(std::memory_order_relaxed)) return;
-                                if (opt.time_budget > 0 && s0 > first_spp &&
-                                    elapsed() > opt.time_budget) {
-                                    out_of_time = true;
-                                    return;
-                                }
-                                ThreadState& ts = states.local();
-                                TileSplats sink(film, rec_nonfinite[ti - c0], out,
-                                                scene.integrator.max_depth,
-                                                scene.integrator.visualize_weights);
-                                const auto& tb = tiles[ti];
-                                for (int y = tb[1]; y < tb[3]; ++y)
-                                    for (int x = tb[0]; x < tb[2]; ++x) {
-                                        ts.sampler->start_pixel(Vec2i(x, y), s0, s1);
-                                        render_bidir_pixel(scene, *bctx, itype == "lightpath",
-                                                           film, ts, Vec2i(x, y), s0, s1, pass,
-                                                           sink);
-                                    }
-                                progress.add(uint64_t(tb[2] - tb[0]) * (tb[3] - tb[1]) *
-                                             (s1 - s0));
-                            }
-                        },
-                        tbb::simple_partitioner());
-                });
-                if (out_of_time) break;
-                for (size_t ti = c0; ti < c1; ++ti) {
-                    states.local().nonfinite += rec_nonfinite[ti - c0];
-                    for (const SplatRecord& rec : recs[ti - c0]) {
-                        if (rec.buffer == 0)
-                            film.add_splat(splat_pass, rec.p, rec.xyz, *scene.filter);
-                        else
-                            film.add_splat(strategy_pass[size_t(rec.buffer - 1)], rec.p, rec.xyz,
-                                           box);
-                    }
-                }
-            }
-            if (!out_of_time) {
-                film.set_splat_sums(std::move(splat_pass));
-                strategy_sums = std::move(strategy_pass);
-            }
-        } else {
         // A tile is abandoned once the budget is spent (after this run's first pass).
         auto budget_spent = [&] {
             if (out_of_time.load(std::memory_order_relaxed)) return true;
@@ -602,6 +592,143 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
             }
             return false;
         };
+        // The pass's header for the workers: the sampler's key, the samples, the integrator.
+        std::vector<char> header;
+        if (coord) {
+            ByteWriter hw(header);
+            hw.put(int32_t(total_spp));
+            hw.put(uint64_t(seed));
+            hw.put(int32_t(s0));
+            hw.put(int32_t(s1));
+            hw.put(uint8_t(bidir ? (itype == "lightpath" ? kPassLightpath : kPassBdpt)
+                           : radiosity ? kPassRadiosity
+                                       : kPassPath));
+            hw.put(uint8_t(opt.bidir_unweighted));
+            hw.put(int32_t(opt.bidir_only_depth));
+        }
+        if (bidir) {
+            std::vector<double> splat_pass = film.splat_sums();
+            std::vector<std::vector<double>> strategy_pass = strategy_sums;
+            // The splat reduction: each tile's splats are kept in its own list while it
+            // renders, then added in tile order, so that the image depends neither on the
+            // threads nor on the processes that rendered the tiles.
+            auto add_splats = [&](const std::vector<SplatRecord>& tile_recs) {
+                for (const SplatRecord& rec : tile_recs) {
+                    if (rec.buffer == 0)
+                        film.add_splat(splat_pass, rec.p, rec.xyz, *scene.filter);
+                    else
+                        film.add_splat(strategy_pass[size_t(rec.buffer - 1)], rec.p, rec.xyz, box);
+                }
+            };
+            const bool lightpath = itype == "lightpath";
+            if (!coord) {
+                // Tiles in chunks (bounding the splat lists' memory), added in tile order.
+                const size_t chunk = size_t(std::max(4, 4 * threads));
+                std::vector<std::vector<SplatRecord>> recs(chunk);
+                std::vector<uint64_t> rec_nonfinite(chunk);
+                for (size_t c0 = 0; c0 < tiles.size() && !out_of_time; c0 += chunk) {
+                    const size_t c1 = std::min(tiles.size(), c0 + chunk);
+                    arena.execute([&] {
+                        tbb::parallel_for(
+                            tbb::blocked_range<size_t>(c0, c1, 1),
+                            [&](const tbb::blocked_range<size_t>& r) {
+                                for (size_t ti = r.begin(); ti < r.end(); ++ti) {
+                                    auto& out = recs[ti - c0];
+                                    out.clear();
+                                    rec_nonfinite[ti - c0] = 0;
+                                    if (out_of_time.load(std::memory_order_relaxed)) return;
+                                    if (opt.time_budget > 0 && s0 > first_spp &&
+                                        elapsed() > opt.time_budget) {
+                                        out_of_time = true;
+                                        return;
+                                    }
+                                    ThreadState& ts = states.local();
+                                    TileSplats sink(film, rec_nonfinite[ti - c0], out,
+                                                    scene.integrator.max_depth,
+                                                    scene.integrator.visualize_weights);
+                                    const auto& tb = tiles[ti];
+                                    render_bidir_tile(scene, *bctx, lightpath, film, ts, tb, s0, s1,
+                                                      pass, sink);
+                                    progress.add(uint64_t(tb[2] - tb[0]) * (tb[3] - tb[1]) *
+                                                 (s1 - s0));
+                                }
+                            },
+                            tbb::simple_partitioner());
+                    });
+                    if (out_of_time) break;
+                    for (size_t ti = c0; ti < c1; ++ti) {
+                        states.local().nonfinite += rec_nonfinite[ti - c0];
+                        add_splats(recs[ti - c0]);
+                    }
+                }
+            } else {
+                // Distributed: a tile's splats come back with its sums (or stay here when this
+                // process's threads rendered it), kept per tile until every tile before it is
+                // in, then added in tile order: the same additions, in the same order, as
+                // above. The window bounds the tiles whose splats are kept at once.
+                const size_t nt = grid.count();
+                std::vector<std::vector<SplatRecord>> recs(nt);
+                std::vector<uint64_t> rec_nonfinite(nt, 0);
+                uint64_t pass_splats = 0;  // counted once the pass completes
+                WorkCoordinator::Phase ph;
+                ph.kind = kRenderTiles;
+                ph.header = header;
+                ph.items = nt;
+                ph.window = size_t(std::max(32, 6 * threads * (coord->workers() + 1)));
+                ph.input = [&](size_t i, ByteWriter& bw) {
+                    put_tile(bw, film, grid.rect(i), pass, aux);
+                };
+                ph.output = [&](size_t i, ByteReader& br) {
+                    const std::array<int, 4> t = grid.rect(i);
+                    get_tile(br, film, t, pass, aux);
+                    remote.paths += br.get<uint64_t>();
+                    remote.rays += br.get<uint64_t>();
+                    remote.nonfinite += br.get<uint64_t>();
+                    const size_t at = br.left();
+                    get_splats(br, recs[i], n_strategy);
+                    stats.dist_splat_bytes += at - br.left();
+                    progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) * uint64_t(s1 - s0));
+                };
+                ph.local = [&](const std::function<std::optional<size_t>()>& claim,
+                               const std::function<void(size_t)>& tile_done) {
+                    arena.execute([&] {
+                        tbb::parallel_for(
+                            0, threads,
+                            [&](int) {
+                                while (!budget_spent()) {
+                                    const std::optional<size_t> i = claim();
+                                    if (!i) return;
+                                    const std::array<int, 4> t = grid.rect(*i);
+                                    TileSplats sink(film, rec_nonfinite[*i], recs[*i],
+                                                    scene.integrator.max_depth,
+                                                    scene.integrator.visualize_weights);
+                                    render_bidir_tile(scene, *bctx, lightpath, film,
+                                                      states.local(), t, s0, s1, pass, sink);
+                                    tile_done(*i);
+                                    progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) *
+                                                 uint64_t(s1 - s0));
+                                }
+                            },
+                            tbb::simple_partitioner());
+                    });
+                };
+                ph.reduce = [&](size_t i) {
+                    const double r0 = thread_cpu_seconds();
+                    remote.nonfinite += rec_nonfinite[i];
+                    add_splats(recs[i]);
+                    pass_splats += recs[i].size();
+                    std::vector<SplatRecord>().swap(recs[i]);
+                    stats.dist_splat_seconds += thread_cpu_seconds() - r0;
+                };
+                ph.abandon = budget_spent;
+                if (!coord->run(ph)) out_of_time = true;
+                if (!out_of_time) stats.dist_splats += pass_splats;
+            }
+            if (!out_of_time) {
+                film.set_splat_sums(std::move(splat_pass));
+                strategy_sums = std::move(strategy_pass);
+            }
+        } else {
         if (!coord) {
             arena.execute([&] {
                 tbb::parallel_for(
@@ -617,11 +744,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         } else {
             WorkCoordinator::Phase ph;
             ph.kind = kRenderTiles;
-            ByteWriter hw(ph.header);
-            hw.put(int32_t(total_spp));
-            hw.put(uint64_t(seed));
-            hw.put(int32_t(s0));
-            hw.put(int32_t(s1));
+            ph.header = header;
             ph.items = grid.count();
             ph.input = [&](size_t i, ByteWriter& bw) { put_tile(bw, film, grid.rect(i), pass, aux); };
             ph.output = [&](size_t i, ByteReader& br) {
@@ -632,7 +755,8 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                 remote.nonfinite += br.get<uint64_t>();
                 progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) * uint64_t(s1 - s0));
             };
-            ph.local = [&](const std::function<std::optional<size_t>()>& claim) {
+            ph.local = [&](const std::function<std::optional<size_t>()>& claim,
+                    const std::function<void(size_t)>&) {
                 arena.execute([&] {
                     tbb::parallel_for(
                         0, threads,
@@ -705,9 +829,11 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     return stats;
 }
 
-JobHandler render_job_handler(const Scene& scene, int threads) {
-    // A worker's state, made on its first job and kept while the sample count and seed stay:
-    // a film of the scene's size whose tiles are set from each job's inputs, and the samplers.
+JobHandler render_job_handler(const Scene& scene, int threads,
+                              const RadiositySolution* radiosity) {
+    // A worker's state, made on its first job and kept while the sample count, seed and
+    // integrator stay: a film of the scene's size whose tiles are set from each job's inputs,
+    // and the samplers.
     struct Worker {
         Film film;
         std::vector<PixelSum> pass;
@@ -715,6 +841,8 @@ JobHandler render_job_handler(const Scene& scene, int threads) {
         std::unique_ptr<RenderThreads> rt;
         int spp = -1;
         uint64_t seed = 0;
+        uint8_t method = 0;
+        std::optional<BidirContext> bctx;
         int threads;
         tbb::task_arena arena;
         Worker(const Scene& s, int n)
@@ -722,21 +850,48 @@ JobHandler render_job_handler(const Scene& scene, int threads) {
               threads(n > 0 ? n : int(std::thread::hardware_concurrency())), arena(threads) {}
     };
     auto wk = std::make_shared<Worker>(scene, threads);
-    return [&scene, wk](ByteReader& header, size_t count, ByteReader& inputs, ByteWriter& outputs) {
+    return [&scene, wk, radiosity](ByteReader& header, size_t count, ByteReader& inputs,
+                                   ByteWriter& outputs) {
         Worker& W = *wk;
         const int total_spp = header.get<int32_t>();
         const uint64_t seed = header.get<uint64_t>();
         const int s0 = header.get<int32_t>(), s1 = header.get<int32_t>();
+        const uint8_t method = header.get<uint8_t>();
+        const bool unweighted = header.get<uint8_t>() != 0;
+        const int only_depth = header.get<int32_t>();
         if (total_spp <= 0 || s0 < 0 || s1 <= s0 || s1 > total_spp)
             throw Error(fmt::format("distributed: a pass [{}, {}) of {} samples", s0, s1, total_spp));
-        if (!W.rt || W.spp != total_spp || W.seed != seed) {
-            W.rt = std::make_unique<RenderThreads>(scene, W.film.params(), total_spp, seed);
+        const std::string& itype = scene.integrator.type;
+        const bool bidir = method == kPassBdpt || method == kPassLightpath;
+        const uint8_t mine = itype == "bdpt"        ? kPassBdpt
+                             : itype == "lightpath" ? kPassLightpath
+                             : itype == "radiosity" ? kPassRadiosity
+                                                    : kPassPath;
+        if (method > kPassLightpath || (method != kPassPath && method != mine))
+            throw Error(fmt::format("distributed: a pass of another integrator than \"{}\"", itype));
+        if (method == kPassRadiosity && !radiosity)
+            throw Error("distributed: a radiosity pass, and no radiosity solution here");
+        if (!W.rt || W.spp != total_spp || W.seed != seed || W.method != method) {
+            W.rt = std::make_unique<RenderThreads>(scene, W.film.params(), total_spp, seed,
+                                                   method == kPassRadiosity ? radiosity : nullptr);
             W.spp = total_spp;
             W.seed = seed;
+            W.method = method;
+        }
+        if (bidir && !W.bctx) {
+            W.bctx.emplace(scene);
+            W.bctx->visualize = method == kPassBdpt && (scene.integrator.visualize_strategies ||
+                                                        scene.integrator.visualize_weights);
+        }
+        if (bidir) {
+            W.bctx->unweighted = unweighted;
+            W.bctx->only_depth = only_depth;
         }
         const TileGrid grid(W.film.params());
         std::vector<size_t> items(count);
         std::vector<TileCounts> counts(count);
+        std::vector<std::vector<SplatRecord>> recs(bidir ? count : 0);
+        std::vector<uint64_t> rec_nonfinite(bidir ? count : 0, 0);
         for (size_t j = 0; j < count; ++j) {
             const uint64_t item = inputs.get<uint64_t>();
             if (item >= grid.count()) throw Error("distributed: a tile outside the film");
@@ -748,8 +903,17 @@ JobHandler render_job_handler(const Scene& scene, int threads) {
                 size_t(0), count,
                 [&](size_t j) {
                     const std::array<int, 4> t = grid.rect(items[j]);
-                    counts[j] = render_tile(scene, W.film, W.rt->states->local(), t[0], t[1],
-                                            t[2], t[3], s0, s1, W.pass, W.aux);
+                    ThreadState& ts = W.rt->states->local();
+                    if (bidir) {
+                        TileSplats sink(W.film, rec_nonfinite[j], recs[j],
+                                        scene.integrator.max_depth,
+                                        scene.integrator.visualize_weights);
+                        counts[j] = render_bidir_tile(scene, *W.bctx, method == kPassLightpath,
+                                                      W.film, ts, t, s0, s1, W.pass, sink);
+                    } else {
+                        counts[j] = render_tile(scene, W.film, ts, t[0], t[1], t[2], t[3], s0,
+                                                s1, W.pass, W.aux);
+                    }
                 },
                 tbb::simple_partitioner());
         });
@@ -758,7 +922,8 @@ JobHandler render_job_handler(const Scene& scene, int threads) {
             put_tile(outputs, W.film, grid.rect(items[j]), W.pass, W.aux);
             outputs.put(counts[j].paths);
             outputs.put(counts[j].rays);
-            outputs.put(counts[j].nonfinite);
+            outputs.put(counts[j].nonfinite + (bidir ? rec_nonfinite[j] : 0));
+            if (bidir) put_splats(outputs, recs[j]);
         }
     };
 }

@@ -221,6 +221,22 @@ bool RadiositySolution::exitance(const SurfaceHit& h, const SampledWavelengths& 
     return true;
 }
 
+uint64_t RadiositySolution::digest() const {
+    uint64_t h = 0xcbf29ce484222325ull;
+    auto mix = [&h](const void* p, size_t n) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+    };
+    const uint64_t sizes[3] = {m_patches.size(), m_B.size(), m_nodes.size()};
+    mix(sizes, sizeof sizes);
+    for (const Patch& p : m_patches) {
+        for (const radiosity::DVec3& v : p.p) mix(&v, sizeof v);
+        mix(p.unknown, sizeof p.unknown);
+    }
+    if (!m_B.empty()) mix(m_B.data(), m_B.size() * sizeof(float));
+    return h;
+}
+
 std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const RadiosityParams& prm,
                                                   int threads) {
     using Clock = std::chrono::steady_clock;

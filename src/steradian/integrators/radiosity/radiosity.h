@@ -67,6 +67,9 @@ public:
     /// Exitance of unknown u at band k.
     float band(int u, int k) const { return m_B[size_t(u) * radiosity::kBands + size_t(k)]; }
     const RadiosityStats& stats() const { return m_stats; }
+    /// A hash (64-bit FNV-1a) of the solution's patches and exitances: equal on two
+    /// processes that solved the same system to the same bits (docs/distributed.md).
+    uint64_t digest() const;
 
 private:
     friend std::unique_ptr<RadiositySolution> solve_radiosity(const Scene&, const RadiosityParams&,
