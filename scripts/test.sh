@@ -4,7 +4,10 @@
 # The sanitizer build is the fuzz preset's (clang-14, ASan + UBSan + libFuzzer's coverage
 # instrumentation): one build serves both the sanitized unit tests and the fuzz harnesses,
 # instead of a separate gcc ASan build of the whole library (the `asan` preset, kept for
-# gcc's sanitizers by hand).
+# gcc's sanitizers by hand). The fuzz preset compiles with -ffp-contract=off: clang fuses
+# a*b+c into FMAs in other places than gcc does, and the unit tests that compare two code
+# paths bit for bit (a spectrum sampled against evaluated, the cloud density against its
+# definition term by term) hold for uncontracted arithmetic.
 # In CI (CI=true, set by .ci/run) it then fuzzes every input reader for 30 s each
 # (scripts/fuzz.sh, reusing that build; FUZZ_SECONDS overrides, 0 skips).
 # Usage: scripts/test.sh [--no-asan]
