@@ -15,10 +15,21 @@ std::shared_ptr<std::vector<Point3>> Builder::padded_positions(std::vector<Point
 
 TriangleMesh Builder::make_mesh(const ShapeDesc& s, std::vector<Point3> p, std::vector<Normal3> n,
                                 std::vector<Point2> uv, std::vector<int> idx) {
+    for (int i : idx)
+        if (i < 0 || size_t(i) >= p.size())
+            throw_error(s.loc, "Shape \"{}\": vertex index {} out of range (there are {} vertices)",
+                        s.type, i, p.size());
+    return make_mesh_u32(s, std::move(p), std::move(n), std::move(uv),
+                         std::vector<uint32_t>(idx.begin(), idx.end()));
+}
+
+TriangleMesh Builder::make_mesh_u32(const ShapeDesc& s, std::vector<Point3> p,
+                                    std::vector<Normal3> n, std::vector<Point2> uv,
+                                    std::vector<uint32_t> idx) {
     const Transform& x = s.world_from_object;
     const size_t nv = p.size();
-    for (int i : idx)
-        if (i < 0 || size_t(i) >= nv)
+    for (uint32_t i : idx)
+        if (i >= nv)
             throw_error(s.loc, "Shape \"{}\": vertex index {} out of range (there are {} vertices)",
                         s.type, i, nv);
     if (!n.empty() && n.size() != nv)
@@ -36,10 +47,11 @@ TriangleMesh Builder::make_mesh(const ShapeDesc& s, std::vector<Point3> p, std::
         v = l > 0 ? w / l : w;
     }
     TriangleMesh m;
+    // The arrays are moved, not copied (a PLY reader's positions have room for the padding).
     m.p = padded_positions(std::move(p));
     m.n = std::make_shared<std::vector<Normal3>>(std::move(n));
     m.uv = std::make_shared<std::vector<Point2>>(std::move(uv));
-    m.indices = std::make_shared<std::vector<uint32_t>>(idx.begin(), idx.end());
+    m.indices = std::make_shared<std::vector<uint32_t>>(std::move(idx));
     m.flip_normals = s.reverse_orientation != x.swaps_handedness();
     return m;
 }
@@ -77,8 +89,8 @@ std::optional<ShapeGeometry> Builder::make_geometry(const ShapeDesc& s) {
         } catch (const Error& e) {
             throw_error(s.loc, "{}", e.what());
         }
-        std::vector<int> idx(d.indices.begin(), d.indices.end());
-        return make_mesh(s, std::move(d.p), std::move(d.n), std::move(d.uv), std::move(idx));
+        return make_mesh_u32(s, std::move(d.p), std::move(d.n), std::move(d.uv),
+                             std::move(d.indices));
     }
     if (s.type == "bilinearmesh") return make_bilinear(s);
     if (s.type == "sphere") {

@@ -652,7 +652,7 @@ void read_generic(R& r, const Element& e, Context& c) {
         const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(e.count),
                                                     r.remaining() / min_item_bytes + 1);
         if (is_vertex) {
-            m.p.reserve(n);
+            m.p.reserve(n + 1);  // the builder's padding (mesh.h)
             if (c.h.has_normals) m.n.reserve(n);
             if (c.h.has_uv) m.uv.reserve(n);
         } else {
@@ -703,11 +703,13 @@ void read_generic(R& r, const Element& e, Context& c) {
                 m.n.emplace_back(Float(vals[kNx]), Float(vals[kNy]), Float(vals[kNz]));
             if (c.h.has_uv) m.uv.emplace_back(Float(vals[kU]), Float(vals[kV]));
         } else if (is_face) {
-            const int a = int(idx[0]), b = int(idx[1]), d = int(idx[2]);
+            // In [0, num_vertices): checked as read.
+            const auto a = std::uint32_t(idx[0]), b = std::uint32_t(idx[1]),
+                       d = std::uint32_t(idx[2]);
             m.indices.insert(m.indices.end(), {a, b, d});
             if (c.h.has_face_indices) m.face_indices.push_back(int(face_index));
             if (nidx == 4) {
-                m.indices.insert(m.indices.end(), {a, d, int(idx[3])});
+                m.indices.insert(m.indices.end(), {a, d, std::uint32_t(idx[3])});
                 if (c.h.has_face_indices) m.face_indices.push_back(int(face_index));
             }
         }
@@ -736,6 +738,7 @@ void read_vertices_fixed(BinaryReader<Swap>& r, const Element& e, Context& c) {
     const bool normals = c.h.has_normals;
     const bool uv = c.h.has_uv;
     TriangleMeshData& m = c.mesh;
+    m.p.reserve(n + 1);  // the builder's padding (mesh.h)
     m.p.resize(n);
     if (normals) m.n.resize(n);
     if (uv) m.uv.resize(n);
@@ -764,7 +767,7 @@ void read_faces_fast(BinaryReader<Swap>& r, const Element& e, Context& c) {
     const char* p = r.pos();
     const char* const end = p + r.remaining();
     const std::uint32_t nv = static_cast<std::uint32_t>(c.num_vertices);
-    std::vector<int>& out = c.mesh.indices;
+    std::vector<std::uint32_t>& out = c.mesh.indices;
     out.reserve(out.size() +
                 3 * std::min<std::size_t>(static_cast<std::size_t>(e.count), r.remaining() / kTri));
     auto eof = [&](std::int64_t f) {
@@ -784,9 +787,9 @@ void read_faces_fast(BinaryReader<Swap>& r, const Element& e, Context& c) {
                                         load<std::uint32_t, Swap>(p + 5),
                                         load<std::uint32_t, Swap>(p + 9)};
             if ((v[0] >= nv) | (v[1] >= nv) | (v[2] >= nv)) check(f, v, 3);
-            out.push_back(static_cast<int>(v[0]));
-            out.push_back(static_cast<int>(v[1]));
-            out.push_back(static_cast<int>(v[2]));
+            out.push_back(v[0]);
+            out.push_back(v[1]);
+            out.push_back(v[2]);
             p += kTri;
         } else if (k == 4) {
             if (static_cast<std::size_t>(end - p) < kTri + 4) eof(f);
@@ -794,9 +797,7 @@ void read_faces_fast(BinaryReader<Swap>& r, const Element& e, Context& c) {
                 load<std::uint32_t, Swap>(p + 1), load<std::uint32_t, Swap>(p + 5),
                 load<std::uint32_t, Swap>(p + 9), load<std::uint32_t, Swap>(p + 13)};
             check(f, v, 4);
-            out.insert(out.end(),
-                       {static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]),
-                        static_cast<int>(v[0]), static_cast<int>(v[2]), static_cast<int>(v[3])});
+            out.insert(out.end(), {v[0], v[1], v[2], v[0], v[2], v[3]});
             p += kTri + 4;
         } else {
             fail_face_size(c, f, k);
