@@ -380,14 +380,17 @@ namespace {
 /// the image). Meshes: every vertex; spheres and disks: the corners of their object boxes.
 void check_extent(const ShapeGeometry& g, const ShapeDesc& s) {
     const std::string what = fmt::format("Shape \"{}\"", s.type);
+    // The messages are made once, not per vertex (a 10M-triangle mesh's 5M strings cost
+    // 0.15 CPU-s).
     auto corners = [&](const Transform& x, Float r, Float z0, Float z1) {
+        const std::string point = what + ": a point of it";
         for (Float cx : {-r, r})
             for (Float cy : {-r, r})
-                for (Float cz : {z0, z1})
-                    check_position(x.point(Point3(cx, cy, cz)), s.loc, what + ": a point of it");
+                for (Float cz : {z0, z1}) check_position(x.point(Point3(cx, cy, cz)), s.loc, point);
     };
     if (const auto* mesh = std::get_if<TriangleMesh>(&g)) {
-        for (const Point3& p : *mesh->p) check_position(p, s.loc, what + ": a vertex");
+        const std::string vertex = what + ": a vertex";
+        for (const Point3& p : *mesh->p) check_position(p, s.loc, vertex);
     } else if (const auto* sp = std::get_if<Sphere>(&g)) {
         corners(sp->world_from_object, sp->radius, -sp->radius, sp->radius);
     } else if (const auto* d = std::get_if<Disk>(&g)) {
@@ -395,8 +398,8 @@ void check_extent(const ShapeGeometry& g, const ShapeDesc& s) {
     } else if (const auto* c = std::get_if<Cylinder>(&g)) {
         corners(c->world_from_object, c->radius, c->z_min, c->z_max);
     } else if (const auto* cv = std::get_if<Curves>(&g)) {
-        for (const CurvePoint& q : *cv->cp)
-            check_position(Point3(q.x, q.y, q.z), s.loc, what + ": a control point");
+        const std::string point = what + ": a control point";
+        for (const CurvePoint& q : *cv->cp) check_position(Point3(q.x, q.y, q.z), s.loc, point);
     }
 }
 
