@@ -370,19 +370,21 @@ namespace {
 /// Embree's build quality for a scene of these shapes: HIGH (spatial splits, the fastest
 /// traversal) up to kHighQualityTriangles triangles. Above, MEDIUM (binned SAH without
 /// splits), whose build is several times faster for a traversal a few percent slower; or,
-/// when the render is known to trace fewer camera paths than the scene has triangles, LOW
-/// (Embree's Morton builder), whose build is faster still for a slower traversal.
-/// bench/plygz_load.sh's 10-million-triangle height field, 27 Nov 2026: the BVH build takes
-/// 5.0 CPU-s with MEDIUM and 1.9 with LOW (0.3 microseconds a triangle saved); 300 x 300
-/// pixels at 32 spp (2.9 M paths of the path tracer, depth 5) take 2.2-2.3 render CPU-s with
-/// MEDIUM and 2.55 with LOW (0.1 microseconds a path lost). LOW pays below about 3 paths a
-/// triangle; the threshold of 1 leaves a margin for meshes on which Morton codes order
-/// triangles worse than on a height field.
+/// when the render is known to trace fewer camera paths than half the scene's triangles,
+/// LOW (Embree's Morton builder), whose build is faster still for a slower traversal.
+/// Measured 27 Nov 2026 on bench/plygz_load.sh's 10-million-triangle height field (2
+/// cores, load average 5-7): the BVH build takes 5.0 CPU-s with MEDIUM and 1.9 with LOW
+/// (0.3 microseconds a triangle saved). Renders of it (path tracer, depth 5) take 15-40 %
+/// more render CPU time with LOW: 0.94-0.98 against 0.79-0.82 CPU-microseconds a camera
+/// path at 390 x 390 and 400 x 400 pixels, 32 spp (bench/plygz_trace.sh); 0.81-0.93
+/// against 0.64-0.68 at 550 x 550 and 570 x 570; 12 % at 300 x 300. LOW pays below about
+/// 1.5 paths a triangle; the threshold of 0.5 leaves a margin for meshes that Morton codes
+/// order worse than a height field, and for longer paths.
 constexpr size_t kHighQualityTriangles = 2'000'000;
 
 RTCBuildQuality build_quality(size_t triangles, uint64_t expected_camera_paths) {
     if (triangles <= kHighQualityTriangles) return RTC_BUILD_QUALITY_HIGH;
-    if (expected_camera_paths > 0 && expected_camera_paths < triangles)
+    if (expected_camera_paths > 0 && expected_camera_paths < triangles / 2)
         return RTC_BUILD_QUALITY_LOW;
     return RTC_BUILD_QUALITY_MEDIUM;
 }
