@@ -747,6 +747,15 @@ void read_vertices_fixed(BinaryReader<Swap>& r, const Element& e, Context& c) {
     const bool uv = c.h.has_uv;
     TriangleMeshData& m = c.mesh;
     m.p.reserve(n + 1);  // the builder's padding (mesh.h)
+    advise_huge_pages(m.p.data(), (n + 1) * sizeof(Point3));
+    if (normals) {
+        m.n.reserve(n);
+        advise_huge_pages(m.n.data(), n * sizeof(Normal3));
+    }
+    if (uv) {
+        m.uv.reserve(n);
+        advise_huge_pages(m.uv.data(), n * sizeof(Point2));
+    }
     m.p.resize(n);
     if (normals) m.n.resize(n);
     if (uv) m.uv.resize(n);
@@ -778,6 +787,7 @@ void read_faces_fast(BinaryReader<Swap>& r, const Element& e, Context& c) {
     std::vector<std::uint32_t>& out = c.mesh.indices;
     out.reserve(out.size() +
                 3 * std::min<std::size_t>(static_cast<std::size_t>(e.count), r.remaining() / kTri));
+    advise_huge_pages(out.data() + out.size(), (out.capacity() - out.size()) * sizeof(out[0]));
     auto eof = [&](std::int64_t f) {
         fail(c.name, 0, "unexpected end of file in element 'face' (read {} of {})", f, e.count);
     };
