@@ -215,12 +215,16 @@ struct Accel::Impl {
     std::vector<int> inst_geom_to_instance;           ///< top geomID -> instance
     std::vector<std::unique_ptr<UserShape>> user_shapes;
 
-    unsigned attach_shape(RTCScene s, int shape_index) {
+    /// Attaches shape `shape_index` to scene `s`; a triangle mesh is built with `quality`
+    /// (Embree builds each mesh of a RTC_BUILD_QUALITY_LOW scene on its own, with the
+    /// mesh's quality: LOW is its Morton builder).
+    unsigned attach_shape(RTCScene s, int shape_index, RTCBuildQuality quality) {
         const ShapeEntry& e = shapes[shape_index];
         RTCGeometry g = nullptr;
         UserShape* user = nullptr;
         if (const auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
             g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            if (quality == RTC_BUILD_QUALITY_LOW) rtcSetGeometryBuildQuality(g, quality);
             rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                        mesh->p->data(), 0, sizeof(Point3), mesh->num_vertices());
             rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -361,19 +365,39 @@ struct Accel::Impl {
     }
 };
 
+namespace {
+
 /// Embree's build quality for a scene of these shapes: HIGH (spatial splits, the fastest
-/// traversal) up to kHighQualityTriangles triangles; above, MEDIUM (binned SAH without
-/// splits), whose build is several times faster (bench/plygz_load.sh: a 10-million-triangle
-/// mesh) for a traversal a few percent slower.
+/// traversal) up to kHighQualityTriangles triangles. Above, MEDIUM (binned SAH without
+/// splits), whose build is several times faster for a traversal a few percent slower; or,
+/// when the render is known to trace fewer camera paths than half the scene's triangles,
+/// LOW (Embree's Morton builder), whose build is faster still for a slower traversal.
+/// Measured 27 Nov 2026 on bench/plygz_load.sh's 10-million-triangle height field (2
+/// cores, load average 5-7): the BVH build takes 5.0 CPU-s with MEDIUM and 1.9 with LOW
+/// (0.3 microseconds a triangle saved). Renders of it (path tracer, depth 5) take 15-40 %
+/// more render CPU time with LOW: 0.94-0.98 against 0.79-0.82 CPU-microseconds a camera
+/// path at 390 x 390 and 400 x 400 pixels, 32 spp (bench/plygz_trace.sh); 0.81-0.93
+/// against 0.64-0.68 at 550 x 550 and 570 x 570; 12 % at 300 x 300. LOW pays below about
+/// 1.5 paths a triangle; the threshold of 0.5 leaves a margin for meshes that Morton codes
+/// order worse than a height field, and for longer paths.
 constexpr size_t kHighQualityTriangles = 2'000'000;
 
+RTCBuildQuality build_quality(size_t triangles, uint64_t expected_camera_paths) {
+    if (triangles <= kHighQualityTriangles) return RTC_BUILD_QUALITY_HIGH;
+    if (expected_camera_paths > 0 && expected_camera_paths < triangles / 2)
+        return RTC_BUILD_QUALITY_LOW;
+    return RTC_BUILD_QUALITY_MEDIUM;
+}
+
+}  // namespace
+
 Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
-    auto build_quality = [&](std::span<const int> shape_ids) {
+    auto scene_quality = [&](std::span<const int> shape_ids) {
         size_t tris = 0;
         for (int si : shape_ids)
             if (const auto* mesh = std::get_if<TriangleMesh>(&geometry.shapes[size_t(si)].geometry))
                 tris += mesh->num_triangles();
-        return tris > kHighQualityTriangles ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+        return build_quality(tris, geometry.expected_camera_paths);
     };
     m->shapes = geometry.shapes.data();
     m->instances = geometry.instances.data();
@@ -384,10 +408,11 @@ Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
     // Prototypes first: each its own Embree scene, instanced below.
     for (const Prototype& proto : geometry.prototypes) {
         RTCScene ps = rtcNewScene(m->device);
-        rtcSetSceneBuildQuality(ps, build_quality(proto.shapes));
+        const RTCBuildQuality quality = scene_quality(proto.shapes);
+        rtcSetSceneBuildQuality(ps, quality);
         std::vector<int> map;
         for (int si : proto.shapes) {
-            unsigned id = m->attach_shape(ps, si);
+            unsigned id = m->attach_shape(ps, si, quality);
             if (map.size() <= id) map.resize(id + 1, -1);
             map[id] = si;
         }
@@ -397,9 +422,10 @@ Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
     }
 
     m->top = rtcNewScene(m->device);
-    rtcSetSceneBuildQuality(m->top, build_quality(geometry.top_level_shapes));
+    const RTCBuildQuality top_quality = scene_quality(geometry.top_level_shapes);
+    rtcSetSceneBuildQuality(m->top, top_quality);
     for (int si : geometry.top_level_shapes) {
-        unsigned id = m->attach_shape(m->top, si);
+        unsigned id = m->attach_shape(m->top, si, top_quality);
         if (m->top_geom_shape.size() <= id) m->top_geom_shape.resize(id + 1, -1);
         m->top_geom_shape[id] = si;
     }

@@ -12,6 +12,10 @@
 #include <mutex>
 #include <set>
 
+#if __has_include(<sys/mman.h>)
+#include <sys/mman.h>
+#endif
+
 #include "steradian/core/error.h"
 
 namespace sr {
@@ -72,6 +76,16 @@ std::string read_regular_file(const std::string& path, uint64_t limit, std::stri
         throw Error(fmt::format("cannot read {} \"{}\": read error after {} of {} bytes", what,
                                 path, got, size));
     return contents;
+}
+
+void advise_huge_pages([[maybe_unused]] const void* p, [[maybe_unused]] uint64_t bytes) {
+#if defined(MADV_HUGEPAGE)
+    constexpr uint64_t kHuge = uint64_t(2) << 20;
+    if (bytes < 4 * kHuge) return;
+    const uintptr_t begin = (reinterpret_cast<uintptr_t>(p) + kHuge - 1) & ~uintptr_t(kHuge - 1);
+    const uintptr_t end = (reinterpret_cast<uintptr_t>(p) + bytes) & ~uintptr_t(kHuge - 1);
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
 }
 
 bool is_gzip(std::string_view bytes) {

@@ -43,6 +43,14 @@ bool is_gzip(std::string_view bytes);
 /// says why ("truncated gzip data ..."): the caller names the file.
 std::string gunzip(std::string_view compressed, uint64_t limit);
 
+/// Asks the kernel for transparent huge pages (madvise MADV_HUGEPAGE; nothing where the
+/// system has none) for the whole 2 MiB pages within [p, p + bytes) of a large buffer that
+/// has not been written yet. Its page faults then cost a fraction: 0.03-0.04 CPU-s for
+/// 250 MB against 0.16 with 4 KiB pages, measured on the project's 2-core machine (Nov
+/// 2026). The PLY reader's arrays use it; gunzip_bytes' buffer does not (the 10M-triangle
+/// .ply.gz load measured no better with it). Buffers under 8 MiB are left alone.
+void advise_huge_pages(const void* p, uint64_t bytes);
+
 /// gunzip() into a buffer of its own, without the copy into a std::string (large meshes).
 struct GunzipBytes {
     std::unique_ptr<char[]> data;

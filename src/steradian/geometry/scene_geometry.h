@@ -71,6 +71,10 @@ struct GeometryView {
     std::span<const int> top_level_shapes;  ///< shapes in world space (not in prototypes)
     std::span<const Prototype> prototypes;
     std::span<const Instance> instances;
+    /// The camera paths the render will trace (pixels x samples per pixel), or 0 if not
+    /// known (then the acceleration structure is built for tracing, whatever its build
+    /// costs). It chooses Embree's build quality for very large meshes (accel.cpp).
+    uint64_t expected_camera_paths = 0;
 };
 
 }  // namespace sr

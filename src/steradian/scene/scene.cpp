@@ -9,11 +9,11 @@ Scene::~Scene() = default;
 Scene::Scene(Scene&&) noexcept = default;
 Scene& Scene::operator=(Scene&&) noexcept = default;
 
-void Scene::finalize_geometry() {
+void Scene::finalize_geometry(uint64_t expected_camera_paths) {
     for (ShapeEntry& e : shapes)
         if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) mesh->cache_flat_frames();
     m_accel = std::make_unique<Accel>(
-        GeometryView{shapes, top_level_shapes, prototypes, instances});
+        GeometryView{shapes, top_level_shapes, prototypes, instances, expected_camera_paths});
     bounds = m_accel->bounds();
 }
 

@@ -97,8 +97,9 @@ public:
     Bounds3 bounds;  ///< world bounds of all geometry
 
     /// Builds the acceleration structure and computes `bounds`; call once the shapes and
-    /// instances are final.
-    void finalize_geometry();
+    /// instances are final. `expected_camera_paths`: the render's pixels x samples per
+    /// pixel, or 0 if unknown (see GeometryView).
+    void finalize_geometry(uint64_t expected_camera_paths = 0);
     /// Builds the light sampler; call once the lights are final.
     void finalize_lights();
     /// Closest hit along the ray in (0, ray.t_max); fills h (position, normals, uv, ids),

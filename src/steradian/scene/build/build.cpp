@@ -62,7 +62,14 @@ Scene build_scene(const SceneDesc& desc, const BuildOptions& options) {
     Builder b(desc, options);
     try {
         Scene s = b.build();
-        s.finalize_geometry();
+        // The camera paths a render traces choose Embree's build quality for very large
+        // meshes (accel.cpp); unknown for a radiosity solve and for meters, whose rays are
+        // not the film's.
+        uint64_t paths = 0;
+        if (desc.meters.empty() && s.integrator.type != "radiosity")
+            paths = uint64_t(s.film.x1 - s.film.x0) * uint64_t(s.film.y1 - s.film.y0) *
+                    uint64_t(s.sampler.spp);
+        s.finalize_geometry(paths);
         b.build_lights(s);
         b.fail_if_recorded();
         s.finalize_lights();

@@ -132,6 +132,10 @@ class Builder {
     static std::shared_ptr<std::vector<Point3>> padded_positions(std::vector<Point3> p);
     TriangleMesh make_mesh(const ShapeDesc& s, std::vector<Point3> p, std::vector<Normal3> n,
                            std::vector<Point2> uv, std::vector<int> idx);
+    /// make_mesh with Embree's index type: the arrays become the mesh's without a copy.
+    TriangleMesh make_mesh_u32(const ShapeDesc& s, std::vector<Point3> p,
+                               std::vector<Normal3> n, std::vector<Point2> uv,
+                               std::vector<uint32_t> idx);
     std::optional<ShapeGeometry> make_geometry(const ShapeDesc& s);
     void check_alpha(const ShapeDesc& s);
     std::shared_ptr<const AlphaMask> alpha_mask(const ShapeDesc& s);

@@ -3,6 +3,7 @@
 /// no runtime objects. The builder turns it into a geometry::TriangleMesh.
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -14,11 +15,13 @@
 namespace sr {
 
 /// An indexed triangle mesh in the file's own (object) space.
+/// The readers reserve one position more than they store, so that the builder's padding
+/// (Embree reads 16 bytes per vertex) costs no copy; the indices have the type of Embree's.
 struct TriangleMeshData {
     std::vector<Point3> p;          ///< vertex positions
     std::vector<Normal3> n;         ///< empty, or one (not necessarily unit) normal per vertex
     std::vector<Point2> uv;         ///< empty, or one texture coordinate per vertex
-    std::vector<int> indices;       ///< 3 vertex indices per triangle
+    std::vector<uint32_t> indices;  ///< 3 vertex indices per triangle
     std::vector<int> face_indices;  ///< empty, or one "face_indices" value per triangle
 
     std::size_t triangle_count() const { return indices.size() / 3; }
@@ -42,8 +45,8 @@ inline void validate(const TriangleMeshData& mesh, std::string_view name) {
         fail(fmt::format("{} face indices for {} triangles", mesh.face_indices.size(),
                          mesh.triangle_count()));
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
-        const int v = mesh.indices[i];
-        if (v < 0 || static_cast<std::size_t>(v) >= nv)
+        const uint32_t v = mesh.indices[i];
+        if (v >= nv)
             fail(fmt::format("triangle {} references vertex {} but there are {} vertices", i / 3, v,
                              nv));
     }
