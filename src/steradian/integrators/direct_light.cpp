@@ -287,7 +287,9 @@ DirectEstimate DirectLightQuadrature::irradiance(size_t point, double rel_tol,
         err_sum += c.err;
         cells.push(c);
     }
-    while (!cells.empty() && err_sum > rel_tol * std::abs(q_sum) && est.nodes < max_nodes) {
+    // The quadrature's share of the tolerance leaves room for the rounding floor (below).
+    const double target = std::max(rel_tol - kRoundingFloor, rel_tol / 2);
+    while (!cells.empty() && err_sum > target * std::abs(q_sum) && est.nodes < max_nodes) {
         const Cell c = cells.top();
         cells.pop();
         q_sum -= c.q;
