@@ -200,7 +200,7 @@ struct Integrand {
 
 }  // namespace
 
-DirectEstimate DirectLightQuadrature::irradiance(size_t point, double rel_tol,
+DirectEstimate DirectLightQuadrature::irradiance(size_t point, double rel_tol, double abs_tol,
                                                  uint64_t max_nodes) const {
     DirectEstimate est;
     const Point3 p = m_meter.points[point];
@@ -289,7 +289,8 @@ DirectEstimate DirectLightQuadrature::irradiance(size_t point, double rel_tol,
     }
     // The quadrature's share of the tolerance leaves room for the rounding floor (below).
     const double target = std::max(rel_tol - kRoundingFloor, rel_tol / 2);
-    while (!cells.empty() && err_sum > target * std::abs(q_sum) && est.nodes < max_nodes) {
+    while (!cells.empty() && err_sum > std::max(target * std::abs(q_sum), abs_tol) &&
+           est.nodes < max_nodes) {
         const Cell c = cells.top();
         cells.pop();
         q_sum -= c.q;
@@ -316,7 +317,7 @@ DirectEstimate DirectLightQuadrature::irradiance(size_t point, double rel_tol,
     // rounding errors of about 1e-7 each, which bound any area light's integral to about
     // 1e-6 relative, however small the quadrature's own estimate.
     est.error = prims.empty() ? 0 : err_sum + kRoundingFloor * std::abs(q_sum - delta_sum);
-    est.converged = est.error <= rel_tol * std::abs(q_sum);
+    est.converged = est.error <= std::max(rel_tol * std::abs(q_sum), abs_tol);
     return est;
 }
 

@@ -52,8 +52,10 @@ class DirectLightQuadrature {
 public:
     DirectLightQuadrature(const Scene& scene, const Meter& meter);
     /// Direct illuminance at point `point` of the meter, to an estimated error of at most
-    /// rel_tol times the value (or until max_nodes quadrature nodes were spent).
-    DirectEstimate irradiance(size_t point, double rel_tol, uint64_t max_nodes = 1u << 18) const;
+    /// rel_tol times the value or abs_tol, whichever is larger (or until max_nodes
+    /// quadrature nodes were spent).
+    DirectEstimate irradiance(size_t point, double rel_tol, double abs_tol = 0,
+                              uint64_t max_nodes = 1u << 18) const;
 
 private:
     const Scene& m_scene;

@@ -63,6 +63,10 @@ PathLimits limits_of(const Meter& m, MeterComponent component) {
 double meter_sample_of(const Scene& scene, const Meter& m, size_t point, Sampler& sampler,
                        PathCounters& counters, MeterComponent component);
 
+/// Below this fraction of its meter's largest value, a deterministic value's target is
+/// absolute (measure(), below).
+constexpr double kDarkFraction = 1e-3;
+
 /// How a meter's value is computed (MeasureOptions::deterministic_direct).
 enum class DirectPlan : uint8_t {
     MonteCarlo,     ///< all of it by samples
@@ -255,6 +259,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     const std::vector<DirectPlan> plans = direct_plans(scene, opt);
     std::vector<double> direct_value(nv, 0), direct_error(nv, 0);
     std::vector<uint8_t> direct_exact(nv, 0), direct_converged(nv, 1);
+    std::vector<int64_t> direct_nodes(nv, 0);
     std::vector<uint8_t> split(nv, 0);
     uint64_t direct_rays = 0;
     {
@@ -263,18 +268,42 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
             if (plans[mi] != DirectPlan::MonteCarlo)
                 quad[mi] = std::make_unique<DirectLightQuadrature>(scene, scene.meters[mi]);
         std::vector<uint64_t> rays(nv, 0);
+        // First every value roughly (each area light's first cell), for each meter's
+        // largest value: a value below
+        // kDarkFraction of it (a grid's dark corner, the far field of a narrow beam) is
+        // computed to an absolute error of the target times kDarkFraction times the largest,
+        // not to a relative one (which could cost more nodes than the rest together).
+        std::vector<DirectEstimate> rough(nv);
+        std::vector<double> largest(scene.meters.size(), 0);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), nv, [&](size_t vi) {
+                const DirectLightQuadrature* q = quad[size_t(values[vi].meter)].get();
+                if (q) rough[vi] = q->irradiance(values[vi].point, 0.1, 0, 1);
+            });
+        });
+        for (size_t vi = 0; vi < nv; ++vi) {
+            double& l = largest[size_t(values[vi].meter)];
+            l = std::max(l, std::abs(rough[vi].value));
+        }
         arena.execute([&] {
             tbb::parallel_for(size_t(0), nv, [&](size_t vi) {
                 const DirectLightQuadrature* q = quad[size_t(values[vi].meter)].get();
                 if (!q) return;
-                // A quarter of the target: the estimate bounds the 2x2 rule's error, so the
-                // 3x3 value kept is usually far closer.
-                const DirectEstimate e = q->irradiance(values[vi].point, opt.rel_error / 4);
+                // Half the target: the estimate bounds the 2x2 rule's error, so the 3x3
+                // value kept is usually far closer. A rough value that meets it is final.
+                const double rel = opt.rel_error / 2;
+                const double abs_tol = rel * kDarkFraction * largest[size_t(values[vi].meter)];
+                DirectEstimate e = rough[vi];
+                if (!(e.error <= std::max(rel * std::abs(e.value), abs_tol)))
+                    e = q->irradiance(values[vi].point, rel, abs_tol);
+                else
+                    e.converged = true;
                 direct_value[vi] = e.value;
                 direct_error[vi] = e.error;
                 direct_exact[vi] = e.exact;
                 direct_converged[vi] = e.converged;
                 rays[vi] = e.rays;
+                direct_nodes[vi] = int64_t(e.nodes);
             });
         });
         for (size_t vi = 0; vi < nv; ++vi) {
@@ -286,6 +315,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
             st.values[vi] = direct_value[vi];
             st.stderrs[vi] = direct_error[vi];
             st.converged[vi] = direct_converged[vi];
+            st.samples[vi] = direct_nodes[vi];
         }
     }
 
