@@ -80,7 +80,7 @@ std::vector<DirectPlan> direct_plans(const Scene& scene, const MeasureOptions& o
     const bool scatters = scene_may_scatter(scene);
     for (size_t i = 0; i < plans.size(); ++i) {
         const Meter& m = scene.meters[i];
-        if (m.kind == MeterKind::Luminance || m.cell_average || m.medium >= 0 ||
+        if ((m.kind != MeterKind::Point && m.kind != MeterKind::Grid) || m.cell_average || m.medium >= 0 ||
             m.component == MeterComponent::Indirect || m.max_depth == 0)
             continue;
         if (m.component == MeterComponent::Direct || m.max_depth == 1 || !scatters)
