@@ -30,6 +30,7 @@
 #include "steradian/integrators/checkpoint.h"
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
+#include "steradian/integrators/direct_light.h"
 #include "steradian/integrators/measure.h"
 #include "steradian/integrators/report.h"
 #include "steradian/integrators/radiosity/radiosity.h"
@@ -199,12 +200,15 @@ void print_distributed_summary(std::optional<sr::WorkCoordinator>& coord, bool q
 void print_readings(const sr::MeasureResult& r) {
     for (const sr::MeterReading& rd : r.readings) {
         const sr::Meter& m = rd.meter;
-        std::printf("%s (%s, %s)\n", m.name.c_str(), m.type.c_str(), m.unit().c_str());
+        std::printf("%s (%s, %s)%s\n", m.name.c_str(), m.type.c_str(), m.unit().c_str(),
+                    rd.estimator == "monte carlo" ? "" : (", " + rd.estimator).c_str());
         for (size_t k = 0; k < rd.values.size(); ++k) {
             sr::Point3 p = m.points[k];
             double rel = rd.values[k] != 0 ? rd.stderrs[k] / std::abs(rd.values[k]) : 0;
-            std::printf("  %4zu  (%9.4g, %9.4g, %9.4g)  %12.6g +- %-10.3g (%.3f%%)%s\n", k, p.x, p.y,
-                        p.z, rd.values[k], rd.stderrs[k], 100 * rel,
+            const bool exact = k < rd.exact.size() && rd.exact[k];
+            std::printf("  %4zu  (%9.4g, %9.4g, %9.4g)  %12.6g +- %-10.3g (%s)%s\n", k, p.x, p.y,
+                        p.z, rd.values[k], rd.stderrs[k],
+                        exact ? "exact" : fmt::format("{:.3f}%", 100 * rel).c_str(),
                         rd.converged[k] ? "" : "  not converged");
         }
         if (m.kind == sr::MeterKind::Grid)
@@ -269,6 +273,7 @@ struct MeasureArgs {
     std::string method = "auto";
     std::string radiosity_mesh;
     int replicas = 32, pilot_samples = 32;
+    bool sampled_direct = false;
 };
 
 /// Solves the scene by the radiosity pass (its Integrator's parameters, or the defaults),
@@ -308,8 +313,9 @@ sr::Checkpoint measure_checkpoint(const MeasureArgs& a, const sr::MeasureOptions
     c.set("scene-digest", digest);
     c.set("rel-error", fmt::format("{}", a.rel_error));
     c.set("seed", std::to_string(a.seed));
-    c.set("estimator", fmt::format("{} replicas, {} to {} samples", mo.replicas, mo.first_samples,
-                                   mo.max_samples));
+    c.set("estimator", fmt::format("{} replicas, {} to {} samples{}", mo.replicas, mo.first_samples,
+                                   mo.max_samples,
+                                   mo.deterministic_direct ? "" : ", sampled direct light"));
     c.set("scene", std::filesystem::absolute(a.scene).string());
     c.set("json", absolute_or_empty(a.json));
     c.set("csv", absolute_or_empty(a.csv));
@@ -361,7 +367,11 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     // scene) and solves the radiosity system itself (docs/distributed.md).
     std::string method = a.method, reason = "--method " + a.method, why;
     if (method == "auto") {
-        if (scene.integrator.type == "radiosity") {
+        if (sr::direct_light_deterministic(scene) && !sr::scene_may_scatter(scene)) {
+            method = "path";
+            reason = "auto: no surface scatters light, so the readings are direct light, "
+                     "computed without sampling";
+        } else if (scene.integrator.type == "radiosity") {
             method = "radiosity";
             reason = "auto: the scene's Integrator is \"radiosity\"";
         } else if (sr::radiosity_models_exactly(scene, &why)) {
@@ -388,6 +398,7 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     mo.radiosity = radiosity.get();
     mo.replicas = a.replicas;
     mo.first_samples = a.pilot_samples;
+    mo.deterministic_direct = !a.sampled_direct;
     mo.rel_error = a.rel_error;
     mo.time_budget = a.time_budget;
     mo.threads = a.threads;
@@ -409,9 +420,10 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
         resume->expect("seed", std::to_string(a.seed), "--seed");
         resume->expect("method", a.method, "--method");
         resume->expect("estimator",
-                       fmt::format("{} replicas, {} to {} samples", mo.replicas, mo.first_samples,
-                                   mo.max_samples),
-                       "--replicas and --pilot-samples");
+                       fmt::format("{} replicas, {} to {} samples{}", mo.replicas, mo.first_samples,
+                                   mo.max_samples,
+                                   mo.deterministic_direct ? "" : ", sampled direct light"),
+                       "--replicas, --pilot-samples and --sampled-direct");
         size_t values = 0;
         for (const sr::Meter& m : scene.meters) values += m.points.size();
         resumed = sr::get_measure_state(*resume, values);
@@ -943,6 +955,9 @@ int main(int argc, char** argv) {
     measure->add_option("--pilot-samples", margs.pilot_samples,
                         "samples per replica of the pilot round (a power of two, default 32)")
         ->check(CLI::Range(1, 1 << 16));
+    measure->add_flag("--sampled-direct", margs.sampled_direct,
+                      "direct light by Monte Carlo like the rest, instead of exactly (delta "
+                      "lights) and by quadrature (area lights)");
     measure->add_option("--radiosity-mesh", margs.radiosity_mesh,
                         "with the radiosity method: write the solved mesh (.ply, per-vertex colours)");
     measure->add_option("--checkpoint", margs.checkpoint,

@@ -50,7 +50,10 @@ TEST(BundledScenes, OfficeDirectIlluminanceIsTheInverseSquareSum) {
             double d2 = (p.x - l[0]) * (p.x - l[0]) + (p.y - l[1]) * (p.y - l[1]) + h * h;
             e += 1000 * h * h / (d2 * d2);
         }
-        EXPECT_NEAR(direct->values[i], e, 4 * direct->stderrs[i] + 1e-6 * e);
+        // cos1000.ies tabulates cos(gamma) every 0.5 deg, interpolated linearly: low by at
+        // most h^2/8 = 9.5e-6 of the value (h = 0.5 deg), which the exact point-source
+        // reading (standard error 0) shows.
+        EXPECT_NEAR(direct->values[i], e, 4 * direct->stderrs[i] + 1e-5 * e);
     }
     // Interreflections only add light: the desk's total exceeds its direct part.
     for (const MeterReading& m : r.readings) {

@@ -36,7 +36,10 @@ void expect_direct(double value, double se, double published) {
 // ---- CIE 171:2006 -------------------------------------------------------------------------
 
 // 5.2: point source 3 m above the floor, I(gamma) = 1000 cos(gamma) cd from an IES file:
-// E = I cos(theta) / d^2 = 1000 cos^4(gamma) / 9 on the floor.
+// E = I cos(theta) / d^2 = 1000 cos^4(gamma) / 9 on the floor. The file tabulates cos at
+// 0.5 deg steps and intensities are linear between them: the interpolant of cos is low by at
+// most h^2/8 |cos''| = 9.5e-6 cos (h = 0.5 deg), a bias that the deterministic reading (a
+// point source: standard error 0) shows, so the sharp check allows for it.
 TEST(Cie171, Case5_2PointSourceFromIesFile) {
     MeasureResult r = measure_file(kCie + "case-5.2.pbrt", 1e-4);
     ASSERT_EQ(r.readings.size(), 1u);
@@ -47,7 +50,9 @@ TEST(Cie171, Case5_2PointSourceFromIesFile) {
     for (size_t i = 0; i < 10; ++i) {
         SCOPED_TRACE(i);
         EXPECT_TRUE(m.converged[i]);
-        expect_direct(m.values[i], m.stderrs[i], published[i]);
+        EXPECT_TRUE(m.exact[i]);
+        EXPECT_EQ(m.stderrs[i], 0.0);
+        expect_direct(m.values[i], m.stderrs[i] + 9.5e-6 * published[i] / 4, published[i]);
     }
     EXPECT_TRUE(r.all_converged);
 }

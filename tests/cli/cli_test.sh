@@ -109,6 +109,13 @@ for key in '"name": "desk"' '"type": "illuminance"' '"unit": "lx"' '"values"' '"
   check "JSON has $key" grep -q "$key" "$tmp/m.json"
 done
 check "CSV has a header and 14 rows" test "$(wc -l < "$tmp/m.csv")" -eq 15
+# Nothing scatters: a point light's illuminance is I cos / r^2 and one shadow ray, exact.
+check "measure computes direct light without sampling" grep -q '"estimator": "deterministic"' "$tmp/m.json"
+check "a point light's reading is exact" \
+  python3 -c "import json,sys; m=json.load(open(sys.argv[1]))['meters'][0]; sys.exit(0 if m['exact'][0] and m['stderr'][0] == 0 and abs(m['values'][0] - 25) < 1e-5 else 1)" "$tmp/m.json"
+check "the table says exact" grep -q "(exact)" "$tmp/measure.txt"
+"$bin" measure "$tmp/meters.pbrt" --sampled-direct --json "$tmp/ms.json" --quiet > /dev/null 2>&1
+check "measure --sampled-direct samples" grep -q '"estimator": "monte carlo"' "$tmp/ms.json"
 check "measure --falsecolor writes a PNG" test -s "$tmp/m.png"
 check "measure --report writes an HTML page" grep -q "<h1>Lighting report: meters.pbrt</h1>" "$tmp/m.html"
 check "the report has the grid's plans" test "$(grep -c "<svg" "$tmp/m.html")" -eq 2
@@ -178,7 +185,8 @@ done
 
 # measure --time is a bound, not a suggestion: rounds grow up to 64-fold, and a round that
 # would overrun is abandoned (within a few percent of the budget; its own clock, in the JSON).
-"$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --time 2 --json "$tmp/tb.json" --quiet > "$tmp/tb.txt" 2>&1
+# (--sampled-direct: this scene's light is direct, which is otherwise computed at once.)
+"$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --time 2 --sampled-direct --json "$tmp/tb.json" --quiet > "$tmp/tb.txt" 2>&1
 check "measure --time exits 0" test $? -eq 0
 check "measure --time 2 stops within 2.1 s" \
   python3 -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if r['time_limited'] and r['wall_seconds'] < 2.1 else 1)" "$tmp/tb.json"
@@ -203,7 +211,7 @@ check "SIGINT during render says so" grep -q "interrupted" "$tmp/int.txt"
 interrupted TERM "$bin" render "$tmp/small.pbrt" -o "$tmp/term.pfm" --spp 10000000 --quiet > "$tmp/term.txt" 2>&1
 check "SIGTERM during render exits 143" test $? -eq 143
 check "SIGTERM during render writes the completed passes" test -s "$tmp/term.pfm"
-interrupted INT "$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --json "$tmp/int.json" --quiet > "$tmp/mint.txt" 2>&1
+interrupted INT "$bin" measure "$tmp/meters.pbrt" --rel-error 1e-12 --sampled-direct --json "$tmp/int.json" --quiet > "$tmp/mint.txt" 2>&1
 check "SIGINT during measure exits 130" test $? -eq 130
 check "SIGINT during measure writes the readings" grep -q '"interrupted": true' "$tmp/int.json"
 # A pass of minutes: the second signal must not wait for it.

@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "steradian/bsdf/bsdf.h"
+#include "steradian/integrators/direct_light.h"
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
@@ -49,18 +50,58 @@ SurfaceHit meter_receiver(Point3 p, Vec3 n) {
 
 namespace {
 
-PathLimits limits_of(const Meter& m) {
+PathLimits limits_of(const Meter& m, MeterComponent component) {
     PathLimits lim;
     lim.max_depth = m.max_depth < 0 ? -1 : m.max_depth;
-    if (m.component == MeterComponent::Direct) lim.max_depth = 1;
-    if (m.component == MeterComponent::Indirect) lim.min_vertices = 2;
+    if (component == MeterComponent::Direct) lim.max_depth = 1;
+    if (component == MeterComponent::Indirect) lim.min_vertices = 2;
     return lim;
+}
+
+/// meter_sample counting `component` of the light (the meter's own, or its indirect part
+/// where the direct part is computed deterministically).
+double meter_sample_of(const Scene& scene, const Meter& m, size_t point, Sampler& sampler,
+                       PathCounters& counters, MeterComponent component);
+
+/// Below this fraction of its meter's largest value, a deterministic value's target is
+/// absolute (measure(), below).
+constexpr double kDarkFraction = 1e-3;
+
+/// How a meter's value is computed (MeasureOptions::deterministic_direct).
+enum class DirectPlan : uint8_t {
+    MonteCarlo,     ///< all of it by samples
+    Deterministic,  ///< all of it is direct light: closed forms and quadrature
+    Split,          ///< direct light deterministic, indirect by samples
+};
+
+std::vector<DirectPlan> direct_plans(const Scene& scene, const MeasureOptions& opt) {
+    std::vector<DirectPlan> plans(scene.meters.size(), DirectPlan::MonteCarlo);
+    if (!opt.deterministic_direct || !direct_light_deterministic(scene)) return plans;
+    const bool scatters = scene_may_scatter(scene);
+    for (size_t i = 0; i < plans.size(); ++i) {
+        const Meter& m = scene.meters[i];
+        if ((m.kind != MeterKind::Point && m.kind != MeterKind::Grid) || m.cell_average || m.medium >= 0 ||
+            m.component == MeterComponent::Indirect || m.max_depth == 0)
+            continue;
+        if (m.component == MeterComponent::Direct || m.max_depth == 1 || !scatters)
+            plans[i] = DirectPlan::Deterministic;
+        else if (!opt.radiosity)  // the radiosity gather counts the meter's own component
+            plans[i] = DirectPlan::Split;
+    }
+    return plans;
 }
 
 }  // namespace
 
 double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& sampler,
                     PathCounters& counters) {
+    return meter_sample_of(scene, m, point, sampler, counters, m.component);
+}
+
+namespace {
+
+double meter_sample_of(const Scene& scene, const Meter& m, size_t point, Sampler& sampler,
+                       PathCounters& counters, MeterComponent component) {
     SampledWavelengths lambda = SampledWavelengths::sample_visible(sampler.get_1d());
     const Vec3 dir = m.directions[point];
     Point3 p = m.points[point];
@@ -80,11 +121,9 @@ double meter_sample(const Scene& scene, const Meter& m, size_t point, Sampler& s
     const SurfaceHit v = meter_receiver(p, dir);
     Bsdf receiver(Frame::from_z(dir), dir, LambertLobe{SampledSpectrum(1)});
     SampledSpectrum L =
-        path_lo(scene, v, receiver, lambda, sampler, counters, limits_of(m), m.medium);
+        path_lo(scene, v, receiver, lambda, sampler, counters, limits_of(m, component), m.medium);
     return kPi * meter_weigh(m, L, lambda);
 }
-
-namespace {
 
 /// A value: point `point` of meter `meter`. Values are numbered meter by meter.
 struct Value {
@@ -110,7 +149,8 @@ struct ReplicaResult {
 ReplicaResult replica_mean(const Scene& scene, const std::vector<Value>& values, size_t vi,
                            int replica, int n, uint64_t round_seed,
                            const std::function<bool()>* stop,
-                           const RadiositySolution* radiosity = nullptr) {
+                           const RadiositySolution* radiosity = nullptr,
+                           bool indirect_only = false) {
     const Value& val = values[vi];
     const Meter& m = scene.meters[size_t(val.meter)];
     PaddedSobolSampler sampler(n, round_seed);
@@ -122,7 +162,9 @@ ReplicaResult replica_mean(const Scene& scene, const std::vector<Value>& values,
         sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
         double v = radiosity ? radiosity_meter_sample(scene, *radiosity, m, val.point, sampler,
                                                       counters)
-                             : meter_sample(scene, m, val.point, sampler, counters);
+                             : meter_sample_of(scene, m, val.point, sampler, counters,
+                                               indirect_only ? MeterComponent::Indirect
+                                                             : m.component);
         if (!std::isfinite(v)) {
             ++r.nonfinite;
             v = 0;
@@ -210,6 +252,73 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     // estimate, for sizing the batches between checkpoints).
     const int slots = threads * (coord ? coord->workers() + 1 : 1);
 
+    // Direct light without Monte Carlo where it can be (direct_light.h): a deterministic
+    // value is final at once; a split value's samples count only its indirect light, and its
+    // direct part is added at the end. Recomputed on resume (it is a pure function of the
+    // scene), so a checkpoint need not hold it.
+    const std::vector<DirectPlan> plans = direct_plans(scene, opt);
+    std::vector<double> direct_value(nv, 0), direct_error(nv, 0);
+    std::vector<uint8_t> direct_exact(nv, 0), direct_converged(nv, 1);
+    std::vector<int64_t> direct_nodes(nv, 0);
+    std::vector<uint8_t> split(nv, 0);
+    uint64_t direct_rays = 0;
+    {
+        std::vector<std::unique_ptr<DirectLightQuadrature>> quad(scene.meters.size());
+        for (size_t mi = 0; mi < scene.meters.size(); ++mi)
+            if (plans[mi] != DirectPlan::MonteCarlo)
+                quad[mi] = std::make_unique<DirectLightQuadrature>(scene, scene.meters[mi]);
+        std::vector<uint64_t> rays(nv, 0);
+        // First every value roughly (each area light's first cell), for each meter's
+        // largest value: a value below
+        // kDarkFraction of it (a grid's dark corner, the far field of a narrow beam) is
+        // computed to an absolute error of the target times kDarkFraction times the largest,
+        // not to a relative one (which could cost more nodes than the rest together).
+        std::vector<DirectEstimate> rough(nv);
+        std::vector<double> largest(scene.meters.size(), 0);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), nv, [&](size_t vi) {
+                const DirectLightQuadrature* q = quad[size_t(values[vi].meter)].get();
+                if (q) rough[vi] = q->irradiance(values[vi].point, 0.1, 0, 1);
+            });
+        });
+        for (size_t vi = 0; vi < nv; ++vi) {
+            double& l = largest[size_t(values[vi].meter)];
+            l = std::max(l, std::abs(rough[vi].value));
+        }
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), nv, [&](size_t vi) {
+                const DirectLightQuadrature* q = quad[size_t(values[vi].meter)].get();
+                if (!q) return;
+                // Half the target: the estimate bounds the 2x2 rule's error, so the 3x3
+                // value kept is usually far closer. A rough value that meets it is final.
+                const double rel = opt.rel_error / 2;
+                const double abs_tol = rel * kDarkFraction * largest[size_t(values[vi].meter)];
+                DirectEstimate e = rough[vi];
+                if (!(e.error <= std::max(rel * std::abs(e.value), abs_tol)))
+                    e = q->irradiance(values[vi].point, rel, abs_tol);
+                else
+                    e.converged = true;
+                direct_value[vi] = e.value;
+                direct_error[vi] = e.error;
+                direct_exact[vi] = e.exact;
+                direct_converged[vi] = e.converged;
+                rays[vi] = e.rays;
+                direct_nodes[vi] = int64_t(e.nodes);
+            });
+        });
+        for (size_t vi = 0; vi < nv; ++vi) {
+            direct_rays += rays[vi];
+            const DirectPlan plan = plans[size_t(values[vi].meter)];
+            split[vi] = plan == DirectPlan::Split;
+            if (plan != DirectPlan::Deterministic || opt.resume) continue;
+            st.next_n[vi] = 0;
+            st.values[vi] = direct_value[vi];
+            st.stderrs[vi] = direct_error[vi];
+            st.converged[vi] = direct_converged[vi];
+            st.samples[vi] = direct_nodes[vi];
+        }
+    }
+
     const int first_round = st.round;  // this run's first round always completes
     double seconds_per_sample = 0;      // wall, of the batches so far
     for (;; ++st.round) {
@@ -270,7 +379,8 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
             auto compute = [&](size_t item) {
                 take(item, replica_mean(scene, values, pending[item / R], int(item % R),
                                         int(st.next_n[pending[item / R]]), round_seed,
-                                        may_abandon ? &stop_check : nullptr, opt.radiosity));
+                                        may_abandon ? &stop_check : nullptr, opt.radiosity,
+                                        split[pending[item / R]] != 0));
             };
             if (!coord) {
                 arena.execute([&] {
@@ -295,6 +405,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                     double left = kInfinity;
                     if (may_abandon && opt.time_budget > 0) left = opt.time_budget - elapsed();
                     bw.put(left);
+                    bw.put(uint8_t(split[vi]));
                 };
                 ph.output = [&](size_t j, ByteReader& br) {
                     ReplicaResult r;
@@ -352,8 +463,10 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
             st.values[vi] = mean;
             st.stderrs[vi] = se;
             st.samples[vi] = n * R;
-            const double target = opt.rel_error * std::abs(mean);
-            const bool ok = se <= target;
+            // A split value's target is relative to the whole reading, and its direct
+            // part's quadrature error counts against it.
+            const double target = opt.rel_error * std::abs(mean + (split[vi] ? direct_value[vi] : 0));
+            const bool ok = std::hypot(se, split[vi] ? direct_error[vi] : 0) <= target;
             st.converged[vi] = ok;
             // The first round is a pilot: it only sizes the next one, so the reported
             // estimate never comes from the round whose variance decided the sample count.
@@ -384,10 +497,21 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
 
     for (size_t vi = 0; vi < nv; ++vi) {
         MeterReading& rd = res.readings[values[vi].meter];
-        rd.values.push_back(st.values[vi]);
-        rd.stderrs.push_back(st.stderrs[vi]);
+        const DirectPlan plan = plans[size_t(values[vi].meter)];
+        rd.estimator = plan == DirectPlan::Deterministic ? "deterministic"
+                       : plan == DirectPlan::Split       ? "deterministic + monte carlo indirect"
+                                                         : "monte carlo";
+        if (split[vi]) {
+            rd.values.push_back(st.values[vi] + direct_value[vi]);
+            rd.stderrs.push_back(std::hypot(st.stderrs[vi], direct_error[vi]));
+            rd.converged.push_back(st.converged[vi] && direct_converged[vi]);
+        } else {
+            rd.values.push_back(st.values[vi]);
+            rd.stderrs.push_back(st.stderrs[vi]);
+            rd.converged.push_back(st.converged[vi]);
+        }
         rd.samples.push_back(st.samples[vi]);
-        rd.converged.push_back(st.converged[vi]);
+        rd.exact.push_back(plan == DirectPlan::Deterministic && direct_exact[vi]);
     }
     res.time_limited = st.time_limited;
     for (MeterReading& r : res.readings) {
@@ -410,7 +534,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     res.interrupted = opt.stop && opt.stop->load();
     const MeasureState total = state_so_far();
     res.paths = total.paths;
-    res.rays = total.rays;
+    res.rays = total.rays + direct_rays;
     res.nonfinite = total.nonfinite;
     res.wall_seconds = total.wall_seconds;
     res.cpu_seconds = total.cpu_seconds;
@@ -438,6 +562,7 @@ JobHandler measure_job_handler(const Scene& scene, int threads,
             int32_t replica;
             int64_t n;
             double seconds_left;
+            uint8_t indirect_only;
         };
         std::vector<Item> items(count);
         for (Item& it : items) {
@@ -446,6 +571,7 @@ JobHandler measure_job_handler(const Scene& scene, int threads,
             it.replica = inputs.get<int32_t>();
             it.n = inputs.get<int64_t>();
             it.seconds_left = inputs.get<double>();
+            it.indirect_only = inputs.get<uint8_t>();
             if (it.vi >= wk->values.size() || it.n <= 0 || it.n > (int64_t(1) << 40))
                 throw Error("distributed: a meter item of another scene");
         }
@@ -461,7 +587,8 @@ JobHandler measure_job_handler(const Scene& scene, int threads,
                 results[j] = replica_mean(scene, wk->values, size_t(it.vi), it.replica, int(it.n),
                                           round_seed,
                                           std::isfinite(it.seconds_left) ? &late : nullptr,
-                                          method == 1 ? radiosity : nullptr);
+                                          method == 1 ? radiosity : nullptr,
+                                          it.indirect_only != 0);
             });
         });
         for (size_t j = 0; j < count; ++j) {
@@ -522,11 +649,14 @@ std::string meters_json(const MeasureResult& res) {
         j["unit"] = m.unit();
         j["vision"] = to_string(m.weighting);
         if (m.kind != MeterKind::Luminance) j["component"] = to_string(m.component);
+        j["estimator"] = r.estimator;
         j["values"] = r.values;
         j["stderr"] = r.stderrs;
         j["samples"] = r.samples;
         std::vector<bool> conv(r.converged.begin(), r.converged.end());
         j["converged"] = conv;
+        if (r.estimator != "monte carlo")
+            j["exact"] = std::vector<bool>(r.exact.begin(), r.exact.end());
         nlohmann::ordered_json pts = nlohmann::ordered_json::array();
         for (Point3 p : m.points) pts.push_back({p.x, p.y, p.z});
         j["points"] = pts;

@@ -82,6 +82,10 @@ struct MeasureOptions {
     /// processes, each batch's (value, replica) items are shared with them. The readings are
     /// the same bit for bit.
     WorkCoordinator* distribute = nullptr;
+    /// Direct light without Monte Carlo (integrators/direct_light.h) where a value's direct
+    /// light can be computed so: delta lights exactly, area lights by adaptive quadrature;
+    /// the indirect part, if any, stays Monte Carlo. false: every value by samples.
+    bool deterministic_direct = true;
 };
 
 struct MeterReading {
@@ -90,6 +94,12 @@ struct MeterReading {
     std::vector<double> stderrs;
     std::vector<int64_t> samples;   ///< samples spent on the reported estimate
     std::vector<uint8_t> converged; ///< reached the target
+    /// How the meter's direct light was computed: "monte carlo" (with the rest of the
+    /// light), "deterministic" (the whole reading: direct light only, by closed forms and
+    /// quadrature) or "deterministic + monte carlo indirect".
+    std::string estimator = "monte carlo";
+    /// Per value: no Monte Carlo and no quadrature error (delta lights only): stderr 0.
+    std::vector<uint8_t> exact;
     /// Grids: mean, its standard error, minimum, maximum and uniformity U0 = min / mean.
     double avg = 0, avg_stderr = 0, min = 0, max = 0, uniformity = 0;
     /// Glare meters: per point, the rating's details (values and stderrs are the ratings).

@@ -203,7 +203,7 @@ Float DiffuseAreaLight::phi_y() const {
     // A luminous opening's primitives share the distribution's flux by area.
     if (goniometric)
         return goniometric->scale * goniometric->flux_lm *
-               (goniometric->sphere_radius > 0 ? 1 : area / goniometric->opening_area);
+               (goniometric->body == LuminousBody::Sphere ? 1 : area / goniometric->opening_area);
     return scale * photometric(radiance) * kPi * area * (two_sided ? 2 : 1);
 }
 
@@ -243,7 +243,7 @@ Float spot_falloff(const SpotLight& l, Float cos_t) {
 
 /// Whether an area light emits from both faces.
 bool two_faced(const DiffuseAreaLight& a) {
-    return a.two_sided || (a.goniometric && a.goniometric->sphere_radius <= 0);
+    return a.two_sided || (a.goniometric && a.goniometric->body == LuminousBody::Flat);
 }
 
 /// A ray of an infinite or distant light travelling in direction d: its origin on the disk

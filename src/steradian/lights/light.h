@@ -219,24 +219,49 @@ struct GoniometricLight {
     bool is_delta() const { return true; }
 };
 
+/// The shape of a photometric luminaire's emitting surface (LM-63 luminous opening).
+/// Flat: a plane figure emitting from both faces; Sphere; Convex: a closed convex body (a
+/// box with luminous sides, a cylinder, an ellipsoid: a triangle mesh) emitting outwards.
+enum class LuminousBody { Flat, Sphere, Convex };
+
 /// The luminous opening of a photometric luminaire as an emitting surface (LM-63 width,
-/// length, height): a flat opening (rectangle or disk in the luminaire's z = 0 plane,
-/// emitting from both faces) has radiance I(w) / (A |cos theta|), a spherical one
-/// I(w) / (pi r^2), so that the opening's intensity in every direction is the file's.
+/// length, height), whose radiance in direction w is I(w) / P(w), P(w) the shape's
+/// projected area seen from w, so that the opening's intensity in every direction is the
+/// file's: a flat opening (rectangle, disk or ellipse, emitting from both faces, unit
+/// normal nf) has P = A |nf . w|, a sphere P = pi r^2, a convex body P = sum over its faces
+/// of max(0, n_i . w) A_i = 1/2 sum |A_i n_i . w| (a closed surface's outward area vectors
+/// sum to zero), computed from the mesh itself so that it is exact for the mesh.
 struct GoniometricEmission {
     GoniometricProfile profile;
     Spectrum spectrum;  ///< normalised as in GoniometricLight
     Float scale = 1;
-    Float opening_area = 0;      ///< flat: the whole opening's area A
-    Float sphere_radius = 0;     ///< > 0 for a spherical opening
+    LuminousBody body = LuminousBody::Flat;
+    Float opening_area = 0;      ///< the whole emitting surface's area
+    Vec3 flat_normal{0, 0, 1};   ///< Flat: the plane's normal in the luminaire frame
+    Float sphere_radius = 0;     ///< Sphere: its radius
+    /// Convex: A_i n_i of each distinct face plane, in the luminaire frame.
+    std::vector<Vec3> face_areas;
     Float flux_lm = 0;           ///< of the whole distribution (before scale)
+    /// P(w) for the unit direction l of the luminaire frame.
+    Float projected_area(Vec3 l) const {
+        switch (body) {
+            case LuminousBody::Flat: return opening_area * std::abs(dot(flat_normal, l));
+            case LuminousBody::Sphere: return kPi * sqr(sphere_radius);
+            case LuminousBody::Convex: {
+                Float s = 0;
+                for (const Vec3& f : face_areas) s += std::abs(dot(f, l));
+                return s / 2;
+            }
+        }
+        return 0;
+    }
     /// Radiance leaving a point of the opening with outward normal n in direction w; a
-    /// sphere emits only outwards (rays pass through the opening, which must not count the
-    /// far side as well).
+    /// sphere or a body emits only outwards (rays pass through the opening, which must not
+    /// count the far side as well).
     SampledSpectrum radiance(Normal3 n, Vec3 w, const SampledWavelengths& lambda) const {
-        if (sphere_radius > 0 && dot(n, w) <= 0) return SampledSpectrum(0);
+        if (body != LuminousBody::Flat && dot(n, w) <= 0) return SampledSpectrum(0);
         Vec3 l = profile.local(w);
-        Float proj = sphere_radius > 0 ? kPi * sqr(sphere_radius) : opening_area * std::abs(l.z);
+        Float proj = projected_area(l);
         if (!(proj > 0)) return SampledSpectrum(0);
         Float i = Float(profile.data->intensity_direction(l.x, l.y, l.z));
         if (!(i > 0)) return SampledSpectrum(0);

@@ -21,8 +21,18 @@ bool locate(const std::vector<double>& a, double x, size_t& i, double& t) {
         t = 0;
         return true;
     }
-    auto it = std::upper_bound(a.begin(), a.end(), x);
-    size_t hi = static_cast<size_t>(it - a.begin());
+    // Most files tabulate equal steps: guess the interval from the range, and search only
+    // if the guess is wrong (the same interval upper_bound gives).
+    size_t hi;
+    const double span = a.back() - a.front();
+    const double g = span > 0 ? (x - a.front()) / span * double(a.size() - 1) : 0.0;
+    const size_t guess = g > 0 ? std::min(static_cast<size_t>(g) + 1, a.size() - 1) : 1;
+    if (a[guess - 1] <= x && (x < a[guess] || guess == a.size() - 1)) {
+        hi = guess;
+    } else {
+        auto it = std::upper_bound(a.begin(), a.end(), x);
+        hi = static_cast<size_t>(it - a.begin());
+    }
     hi = std::clamp<size_t>(hi, 1, a.size() - 1);
     i = hi - 1;
     double w = a[hi] - a[i];

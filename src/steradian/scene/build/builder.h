@@ -156,6 +156,19 @@ class Builder {
     static std::string lower_extension(const std::string& f);
     void build_luminaires();
     Luminaire make_luminaire(const LightDesc& l);
+    /// The triangle mesh of an LM-63 luminous shape in the luminaire frame (half-extents hx
+    /// along the photometric horizontal, hy along C90, hz along z, centred on the
+    /// photometric centre): a flat figure's triangles face flat_normal, a body's outwards,
+    /// with the body's area vectors per face plane (GoniometricEmission::face_areas).
+    struct LuminousMesh {
+        std::vector<Point3> p;
+        std::vector<int> idx;
+        bool flat = false;
+        Vec3 flat_normal{0, 0, 1};
+        std::vector<Vec3> face_areas;
+    };
+    static constexpr int kEllipseSegments = 48, kEllipsoidRings = 24;
+    static LuminousMesh luminous_mesh(LuminousShape shape, Float hx, Float hy, Float hz);
     Luminaire make_image_goniometric(const LightDesc& l, const std::string& path,
                                      const std::string& file);
     void add_luminaire(Scene& s, const Luminaire& lum);

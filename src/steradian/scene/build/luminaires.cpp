@@ -66,19 +66,18 @@ Builder::Luminaire Builder::make_luminaire(const LightDesc& l) {
     const Transform& world_from_light = l.world_from_light;
     GoniometricProfile profile{data, world_from_light.inverse()};
     Luminaire lum;
-    LuminousShape shape = data->shape;
-    bool flat = shape == LuminousShape::Rectangular || shape == LuminousShape::Circular;
-    bool round = shape == LuminousShape::Sphere;
-    if (emission == "area" && !flat && !round)
+    const LuminousShape shape = data->shape;
+    const bool has_opening = shape != LuminousShape::Point && shape != LuminousShape::Unknown;
+    if (emission == "area" && !has_opening)
         throw_error(l.loc,
-                    "{}: \"emission\" \"area\" needs a rectangular, circular or spherical "
-                    "luminous opening; \"{}\" has {}",
-                    what, *file, to_string(shape));
-    if (emission != "point" && shape != LuminousShape::Point && !flat && !round)
-        warning(l.loc, fmt::format("{}: the {} luminous opening of \"{}\" is emitted from "
+                    "{}: \"emission\" \"area\" needs a luminous opening; \"{}\" has {}", what,
+                    *file, to_string(shape));
+    if (emission != "point" && shape == LuminousShape::Unknown)
+        warning(l.loc, fmt::format("{}: the luminous opening of \"{}\" has an unknown sign "
+                                   "pattern of width, length and height; it is emitted from "
                                    "its photometric centre (point form)",
-                                   what, to_string(shape), *file));
-    if (emission == "point" || (!flat && !round)) {
+                                   what, *file));
+    if (emission == "point" || !has_opening) {
         GoniometricLight g;
         g.p = world_from_light.point(Point3(0, 0, 0));
         g.profile = std::move(profile);
@@ -94,7 +93,11 @@ Builder::Luminaire Builder::make_luminaire(const LightDesc& l) {
     em->scale = sc;
     em->flux_lm = flux;
     ShapeEntry e;
-    if (round) {
+    // Half-extents along the luminaire frame's axes: length along the photometric
+    // horizontal (x), width along C90 (y), height along z (LM-63-2019's table of shapes).
+    const Float hx = Float(data->length / 2), hy = Float(data->width / 2),
+                hz = Float(data->height / 2);
+    if (shape == LuminousShape::Sphere) {
         Sphere sp;
         sp.world_from_object = world_from_light;
         sp.radius = Float(data->width / 2);
@@ -103,6 +106,7 @@ Builder::Luminaire Builder::make_luminaire(const LightDesc& l) {
         sp.theta_z_min = 0;
         sp.theta_z_max = kPi;
         sp.flip_normals = world_from_light.swaps_handedness();
+        em->body = LuminousBody::Sphere;
         em->sphere_radius = sp.radius;
         em->opening_area = sp.area();
         e.geometry = sp;
@@ -114,16 +118,17 @@ Builder::Luminaire Builder::make_luminaire(const LightDesc& l) {
         em->opening_area = d.area();
         e.geometry = d;
     } else {
-        // Length along the photometric horizontal (x), width along C90 (y).
-        Float hx = Float(data->length / 2), hy = Float(data->width / 2);
+        LuminousMesh lm = luminous_mesh(shape, hx, hy, hz);
         ShapeDesc sd;
         sd.type = "luminous opening";
         sd.loc = l.loc;
         sd.world_from_object = world_from_light;
-        TriangleMesh m = make_mesh(
-            sd, {Point3(-hx, -hy, 0), Point3(hx, -hy, 0), Point3(hx, hy, 0), Point3(-hx, hy, 0)},
-            {}, {}, {0, 2, 1, 0, 3, 2});
-        em->opening_area = m.triangle_area(0) + m.triangle_area(1);
+        em->body = lm.flat ? LuminousBody::Flat : LuminousBody::Convex;
+        em->flat_normal = lm.flat_normal;
+        em->face_areas = std::move(lm.face_areas);
+        TriangleMesh m = make_mesh(sd, std::move(lm.p), {}, {}, std::move(lm.idx));
+        em->opening_area = 0;
+        for (size_t t = 0; t < m.num_triangles(); ++t) em->opening_area += m.triangle_area(t);
         e.geometry = std::move(m);
     }
     if (!(em->opening_area > 0))
@@ -134,6 +139,125 @@ Builder::Luminaire Builder::make_luminaire(const LightDesc& l) {
     m_s.top_level_shapes.push_back(lum.shape);
     lum.emission = std::move(em);
     return lum;
+}
+
+Builder::LuminousMesh Builder::luminous_mesh(LuminousShape shape, Float hx, Float hy, Float hz) {
+    LuminousMesh lm;
+    auto ellipse = [](int n, auto&& at) {  // n points around, counterclockwise
+        for (int k = 0; k < n; ++k) {
+            const Float phi = 2 * kPi * Float(k) / Float(n);
+            at(std::cos(phi), std::sin(phi));
+        }
+    };
+    // A flat ellipse (semi-axes a, b along the unit axes ea, eb): a fan around its centre.
+    auto flat_ellipse = [&](Float a, Vec3 ea, Float b, Vec3 eb) {
+        lm.flat = true;
+        lm.flat_normal = cross(ea, eb);
+        lm.p.push_back(Point3(0, 0, 0));
+        ellipse(kEllipseSegments, [&](Float c, Float s) {
+            lm.p.push_back(Point3(0, 0, 0) + ea * (a * c) + eb * (b * s));
+        });
+        for (int k = 0; k < kEllipseSegments; ++k)
+            lm.idx.insert(lm.idx.end(), {0, 1 + k, 1 + (k + 1) % kEllipseSegments});
+    };
+    // A cylinder along the unit axis ez (half-length h) with elliptical section (a along
+    // ea, b along eb): its side as quads, its two ends as fans.
+    auto cylinder = [&](Float h, Vec3 ez, Float a, Vec3 ea, Float b, Vec3 eb) {
+        const int n = kEllipseSegments;
+        for (int side = -1; side <= 1; side += 2) {
+            lm.p.push_back(Point3(0, 0, 0) + ez * (Float(side) * h));
+            ellipse(n, [&](Float c, Float s) {
+                lm.p.push_back(Point3(0, 0, 0) + ez * (Float(side) * h) + ea * (a * c) + eb * (b * s));
+            });
+        }
+        const int top = n + 1;  // index of the second end's centre
+        for (int k = 0; k < n; ++k) {
+            const int k1 = (k + 1) % n;
+            lm.idx.insert(lm.idx.end(), {0, 1 + k, 1 + k1});
+            lm.idx.insert(lm.idx.end(), {top, top + 1 + k, top + 1 + k1});
+            lm.idx.insert(lm.idx.end(), {1 + k, 1 + k1, top + 1 + k1});
+            lm.idx.insert(lm.idx.end(), {1 + k, top + 1 + k1, top + 1 + k});
+        }
+    };
+    const Vec3 ex(1, 0, 0), ey(0, 1, 0), ez(0, 0, 1);
+    switch (shape) {
+        case LuminousShape::Rectangular:
+            lm.flat = true;
+            lm.p = {Point3(-hx, -hy, 0), Point3(hx, -hy, 0), Point3(hx, hy, 0), Point3(-hx, hy, 0)};
+            lm.idx = {0, 2, 1, 0, 3, 2};
+            break;
+        case LuminousShape::Elliptical: flat_ellipse(hx, ex, hy, ey); break;
+        case LuminousShape::VerticalCircleFacingHorizontal:
+        case LuminousShape::VerticalEllipseFacingHorizontal: flat_ellipse(hy, ey, hz, ez); break;
+        case LuminousShape::VerticalCirclePerpendicular:
+        case LuminousShape::VerticalEllipsePerpendicular: flat_ellipse(hx, ex, hz, ez); break;
+        case LuminousShape::RectangularWithLuminousSides:
+            for (int k = 0; k < 8; ++k)
+                lm.p.push_back(Point3((k & 1) ? hx : -hx, (k & 2) ? hy : -hy, (k & 4) ? hz : -hz));
+            lm.idx = {0, 1, 3, 0, 3, 2, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                      2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 3, 7, 1, 7, 5};
+            break;
+        case LuminousShape::VerticalCylinder:
+        case LuminousShape::VerticalEllipticalCylinder: cylinder(hz, ez, hx, ex, hy, ey); break;
+        case LuminousShape::HorizontalCylinderAlong:
+        case LuminousShape::HorizontalEllipticalCylinderAlong: cylinder(hx, ex, hy, ey, hz, ez); break;
+        case LuminousShape::HorizontalCylinderPerpendicular:
+        case LuminousShape::HorizontalEllipticalCylinderPerpendicular:
+            cylinder(hy, ey, hz, ez, hx, ex);
+            break;
+        case LuminousShape::Ellipsoid: {
+            // Rings of constant latitude between two poles.
+            const int rings = kEllipsoidRings, n = kEllipseSegments;
+            lm.p.push_back(Point3(0, 0, -hz));
+            for (int r = 1; r < rings; ++r) {
+                const Float theta = kPi * Float(r) / Float(rings);
+                const Float z = -std::cos(theta), rho = std::sin(theta);
+                ellipse(n, [&](Float c, Float s) {
+                    lm.p.push_back(Point3(hx * rho * c, hy * rho * s, hz * z));
+                });
+            }
+            lm.p.push_back(Point3(0, 0, hz));
+            const int last = int(lm.p.size()) - 1;
+            auto ring = [&](int r, int k) { return 1 + (r - 1) * n + (k % n); };
+            for (int k = 0; k < n; ++k) {
+                lm.idx.insert(lm.idx.end(), {0, ring(1, k), ring(1, k + 1)});
+                lm.idx.insert(lm.idx.end(), {last, ring(rings - 1, k), ring(rings - 1, k + 1)});
+                for (int r = 1; r + 1 < rings; ++r) {
+                    lm.idx.insert(lm.idx.end(), {ring(r, k), ring(r, k + 1), ring(r + 1, k + 1)});
+                    lm.idx.insert(lm.idx.end(), {ring(r, k), ring(r + 1, k + 1), ring(r + 1, k)});
+                }
+            }
+            break;
+        }
+        default: break;  // Point, Circular, Sphere and Unknown are not meshes
+    }
+    // Orient every triangle: a flat figure's against flat_normal (a horizontal one faces
+    // nadir, as the disk does; both faces emit), a convex body's outwards (the body is
+    // centred on the origin, so outwards is where the centroid points).
+    for (size_t t = 0; t + 2 < lm.idx.size(); t += 3) {
+        const Point3 a = lm.p[size_t(lm.idx[t])], b = lm.p[size_t(lm.idx[t + 1])],
+                     c = lm.p[size_t(lm.idx[t + 2])];
+        const Vec3 n = cross(b - a, c - a);
+        const Vec3 out = lm.flat ? -lm.flat_normal : (a - Point3(0, 0, 0)) + (b - Point3(0, 0, 0)) +
+                                                        (c - Point3(0, 0, 0));
+        if (dot(n, out) < 0) std::swap(lm.idx[t + 1], lm.idx[t + 2]);
+        if (lm.flat) continue;
+        // The body's area vectors, one per face plane (coplanar triangles merged), for its
+        // projected area 1/2 sum |A_i n_i . w|.
+        const Vec3 av = (dot(n, out) < 0 ? -n : n) / 2;
+        const Float len = length(av);
+        if (!(len > 0)) continue;
+        bool merged = false;
+        for (Vec3& f : lm.face_areas) {
+            if (dot(f, av) > Float(0.999999) * length(f) * len) {
+                f = f + av;
+                merged = true;
+                break;
+            }
+        }
+        if (!merged) lm.face_areas.push_back(av);
+    }
+    return lm;
 }
 
 /// pbrt-v4's goniometric light: an equal-area image of relative intensity.
