@@ -9,11 +9,29 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "steradian/core/error.h"
 #include "steradian/integrators/integrator.h"
 
 namespace sr {
+
+void run_local_share(tbb::task_arena& arena, int threads,
+                     const std::function<std::optional<size_t>()>& claim,
+                     const std::function<bool()>& stop, const std::function<void(size_t)>& work) {
+    arena.execute([&] {
+        tbb::parallel_for(
+            0, threads,
+            [&](int) {
+                while (!stop()) {
+                    const std::optional<size_t> i = claim();
+                    if (!i) return;
+                    work(*i);
+                }
+            },
+            tbb::simple_partitioner());
+    });
+}
 
 namespace {
 

@@ -26,6 +26,8 @@
 #include <type_traits>
 #include <vector>
 
+#include <tbb/task_arena.h>
+
 namespace sr {
 
 /// Byte messages between the processes of a distributed computation. Messages from one
@@ -93,6 +95,12 @@ private:
     const char* m_p;
     const char* m_end;
 };
+
+/// The usual body of a Phase::local: `threads` threads of `arena` each claim items and call
+/// `work(item)` until `claim` has none left or `stop()` is true.
+void run_local_share(tbb::task_arena& arena, int threads,
+                     const std::function<std::optional<size_t>()>& claim,
+                     const std::function<bool()>& stop, const std::function<void(size_t)>& work);
 
 /// The coordinator's side (process 0): runs phases, then ends the session.
 class WorkCoordinator {

@@ -68,32 +68,34 @@ double luminous_projected_area(const PhotometricData& d, Vec3 l) {
     return 0;
 }
 
-namespace {
+Point3 PhotometricLuminaire::centre() const {
+    return profile->light_from_world.inverse().point(Point3(0, 0, 0));
+}
 
-struct Candidate {
-    const GoniometricProfile* profile = nullptr;
-    double multiplier = 1;  ///< candela in the scene per candela of the file
-};
+Vec3 PhotometricLuminaire::nadir() const {
+    const Vec3 n = profile->light_from_world.inverse().vector(Vec3(0, 0, -1));
+    return length(n) > 0 ? normalize(n) : n;
+}
 
-std::vector<Candidate> luminaires(const Scene& scene) {
-    std::vector<Candidate> out;
+std::vector<PhotometricLuminaire> photometric_luminaires(const Scene& scene) {
+    std::vector<PhotometricLuminaire> out;
     std::set<const GoniometricEmission*> seen;
     for (const Light& light : scene.lights) {
         if (const auto* g = std::get_if<GoniometricLight>(&light)) {
-            if (g->profile.data)
-                out.push_back({&g->profile, double(g->scale) *
-                                                double(spectrum_to_photometric(g->spectrum))});
+            if (g->profile.data)  // (an image distribution has no file data)
+                out.push_back({&g->profile,
+                               double(g->scale) * double(spectrum_to_photometric(g->spectrum)),
+                               false});
         } else if (const auto* a = std::get_if<DiffuseAreaLight>(&light)) {
             const GoniometricEmission* e = a->goniometric.get();
             if (e && e->profile.data && seen.insert(e).second)
                 out.push_back({&e->profile,
-                               double(e->scale) * double(spectrum_to_photometric(e->spectrum))});
+                               double(e->scale) * double(spectrum_to_photometric(e->spectrum)),
+                               true});
         }
     }
     return out;
 }
-
-}  // namespace
 
 GlareReading unified_glare_rating(const Scene& scene, Point3 eye, Vec3 view, Vec3 up,
                                   double e_ind, double e_ind_stderr) {
@@ -104,12 +106,11 @@ GlareReading unified_glare_rating(const Scene& scene, Point3 eye, Vec3 view, Vec
     view = normalize(view);
     double sum = 0;
     bool omega_ok = true;
-    for (const Candidate& c : luminaires(scene)) {
+    for (const PhotometricLuminaire& c : photometric_luminaires(scene)) {
         const PhotometricData& data = *c.profile->data;
-        const Transform world_from_light = c.profile->light_from_world.inverse();
         GlareSource s;
         s.file = std::filesystem::path(data.source).filename().string();
-        s.position = world_from_light.point(Point3(0, 0, 0));
+        s.position = c.centre();
         Vec3 to_lum = s.position - eye;
         s.distance = double(length(to_lum));
         if (!(s.distance > 0)) {

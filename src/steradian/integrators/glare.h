@@ -37,7 +37,23 @@ namespace sr {
 
 class Scene;
 struct PhotometricData;
+struct GoniometricProfile;
 struct MeasureResult;
+
+/// A luminaire of the scene from a photometric file (IES, EULUMDAT): a goniometric point
+/// light, or a luminous opening or body (its triangles, spheres and disks share one
+/// GoniometricEmission and count once).
+struct PhotometricLuminaire {
+    const GoniometricProfile* profile = nullptr;
+    /// Candela in the scene per candela of the file ("scale", "power", tilt): the light's
+    /// scale times its spectrum's photometric value (which the builder divides out).
+    double multiplier = 1;
+    bool opening = false;  ///< emitted from its opening (else from its photometric centre)
+    Point3 centre() const;  ///< the photometric centre, world space
+    Vec3 nadir() const;     ///< the world direction of gamma = 0
+};
+/// The scene's photometric luminaires, in the order of their lights.
+std::vector<PhotometricLuminaire> photometric_luminaires(const Scene& scene);
 
 struct GlareSource {
     std::string file;             ///< the luminaire's photometric file

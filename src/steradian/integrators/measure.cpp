@@ -417,19 +417,11 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                     take(todo[b0 + j], r);
                 };
                 ph.local = [&](const std::function<std::optional<size_t>()>& claim,
-                    const std::function<void(size_t)>&) {
-                    arena.execute([&] {
-                        tbb::parallel_for(
-                            0, threads,
-                            [&](int) {
-                                while (!abandoned.load(std::memory_order_relaxed)) {
-                                    const std::optional<size_t> j = claim();
-                                    if (!j) return;
-                                    compute(todo[b0 + *j]);
-                                }
-                            },
-                            tbb::simple_partitioner());
-                    });
+                               const std::function<void(size_t)>&) {
+                    run_local_share(
+                        arena, threads, claim,
+                        [&] { return abandoned.load(std::memory_order_relaxed); },
+                        [&](size_t j) { compute(todo[b0 + j]); });
                 };
                 ph.abandon = [&] {
                     return abandoned.load() || (may_abandon && must_stop());

@@ -583,6 +583,10 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
         const double pass_t0 = elapsed();
         std::vector<PixelSum> pass = film.sums();
         std::vector<double> aux = film.aux_sums();
+        // Camera samples of tile t in this pass, for the progress bar.
+        auto tile_samples = [&](const std::array<int, 4>& t) {
+            return uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) * uint64_t(s1 - s0);
+        };
         // A tile is abandoned once the budget is spent (after this run's first pass).
         auto budget_spent = [&] {
             if (out_of_time.load(std::memory_order_relaxed)) return true;
@@ -649,8 +653,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                                     const auto& tb = tiles[ti];
                                     render_bidir_tile(scene, *bctx, lightpath, film, ts, tb, s0, s1,
                                                       pass, sink);
-                                    progress.add(uint64_t(tb[2] - tb[0]) * (tb[3] - tb[1]) *
-                                                 (s1 - s0));
+                                    progress.add(tile_samples(tb));
                                 }
                             },
                             tbb::simple_partitioner());
@@ -687,29 +690,19 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                     const size_t at = br.left();
                     get_splats(br, recs[i], n_strategy);
                     stats.dist_splat_bytes += at - br.left();
-                    progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) * uint64_t(s1 - s0));
+                    progress.add(tile_samples(t));
                 };
                 ph.local = [&](const std::function<std::optional<size_t>()>& claim,
                                const std::function<void(size_t)>& tile_done) {
-                    arena.execute([&] {
-                        tbb::parallel_for(
-                            0, threads,
-                            [&](int) {
-                                while (!budget_spent()) {
-                                    const std::optional<size_t> i = claim();
-                                    if (!i) return;
-                                    const std::array<int, 4> t = grid.rect(*i);
-                                    TileSplats sink(film, rec_nonfinite[*i], recs[*i],
-                                                    scene.integrator.max_depth,
-                                                    scene.integrator.visualize_weights);
-                                    render_bidir_tile(scene, *bctx, lightpath, film,
-                                                      states.local(), t, s0, s1, pass, sink);
-                                    tile_done(*i);
-                                    progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) *
-                                                 uint64_t(s1 - s0));
-                                }
-                            },
-                            tbb::simple_partitioner());
+                    run_local_share(arena, threads, claim, budget_spent, [&](size_t i) {
+                        const std::array<int, 4> t = grid.rect(i);
+                        TileSplats sink(film, rec_nonfinite[i], recs[i],
+                                        scene.integrator.max_depth,
+                                        scene.integrator.visualize_weights);
+                        render_bidir_tile(scene, *bctx, lightpath, film, states.local(), t, s0,
+                                          s1, pass, sink);
+                        tile_done(i);
+                        progress.add(tile_samples(t));
                     });
                 };
                 ph.reduce = [&](size_t i) {
@@ -753,25 +746,15 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
                 remote.paths += br.get<uint64_t>();
                 remote.rays += br.get<uint64_t>();
                 remote.nonfinite += br.get<uint64_t>();
-                progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) * uint64_t(s1 - s0));
+                progress.add(tile_samples(t));
             };
             ph.local = [&](const std::function<std::optional<size_t>()>& claim,
-                    const std::function<void(size_t)>&) {
-                arena.execute([&] {
-                    tbb::parallel_for(
-                        0, threads,
-                        [&](int) {
-                            while (!budget_spent()) {
-                                const std::optional<size_t> i = claim();
-                                if (!i) return;
-                                const std::array<int, 4> t = grid.rect(*i);
-                                render_tile(scene, film, states.local(), t[0], t[1], t[2], t[3],
-                                            s0, s1, pass, aux);
-                                progress.add(uint64_t(t[2] - t[0]) * uint64_t(t[3] - t[1]) *
-                                             uint64_t(s1 - s0));
-                            }
-                        },
-                        tbb::simple_partitioner());
+                           const std::function<void(size_t)>&) {
+                run_local_share(arena, threads, claim, budget_spent, [&](size_t i) {
+                    const std::array<int, 4> t = grid.rect(i);
+                    render_tile(scene, film, states.local(), t[0], t[1], t[2], t[3], s0, s1,
+                                pass, aux);
+                    progress.add(tile_samples(t));
                 });
             };
             ph.abandon = budget_spent;

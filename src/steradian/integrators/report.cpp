@@ -51,83 +51,19 @@ std::string rgb_hex(Rgb c) {
     return fmt::format("#{:02x}{:02x}{:02x}", b(c.r), b(c.g), b(c.b));
 }
 
-/// One photometric luminaire of the scene: a goniometric point light, or the triangles,
-/// spheres and disks of one luminous opening (they share its GoniometricEmission).
-struct Luminaire {
-    const PhotometricData* data = nullptr;
-    const GoniometricProfile* profile = nullptr;
-    /// Luminous multiplier of the file's candela in the scene ("scale", "power", tilt): the
-    /// light's scale times its spectrum's photometric value (the builder divides that out).
-    double multiplier = 1;
-    bool opening = false;
-    double area = 0;       ///< triangles of an opening, for the centroid
-    Point3 centroid{0, 0, 0};
-    bool has_position = false;
-    Vec3 nadir{0, 0, -1};
-};
-
-Vec3 world_nadir(const GoniometricProfile& p) {
-    Vec3 n = p.light_from_world.inverse().vector(Vec3(0, 0, -1));
-    return length(n) > 0 ? normalize(n) : n;
-}
-
-std::vector<Luminaire> scene_luminaires(const Scene& scene) {
-    std::vector<Luminaire> out;
-    std::map<const GoniometricEmission*, size_t> openings;
-    for (const Light& light : scene.lights) {
-        if (const auto* g = std::get_if<GoniometricLight>(&light)) {
-            if (!g->profile.data) continue;  // an image distribution: no file data
-            Luminaire l;
-            l.data = g->profile.data.get();
-            l.profile = &g->profile;
-            l.multiplier = double(g->scale) * double(spectrum_to_photometric(g->spectrum));
-            l.centroid = g->p;
-            l.has_position = true;
-            l.nadir = world_nadir(g->profile);
-            out.push_back(l);
-        } else if (const auto* a = std::get_if<DiffuseAreaLight>(&light)) {
-            if (!a->goniometric || !a->goniometric->profile.data) continue;
-            auto [it, fresh] = openings.try_emplace(a->goniometric.get(), out.size());
-            if (fresh) {
-                Luminaire l;
-                l.data = a->goniometric->profile.data.get();
-                l.profile = &a->goniometric->profile;
-                l.multiplier = double(a->goniometric->scale) *
-                               double(spectrum_to_photometric(a->goniometric->spectrum));
-                l.opening = true;
-                l.nadir = world_nadir(a->goniometric->profile);
-                out.push_back(l);
-            }
-            Luminaire& l = out[it->second];
-            if (a->triangle) {
-                const Triangle& t = *a->triangle;
-                double w = a->area;
-                Point3 c = (t.p0 + Vec3(t.p1) + Vec3(t.p2)) * Float(1.0 / 3.0);
-                double total = l.area + w;
-                if (total > 0) {
-                    l.centroid = l.centroid * Float(l.area / total) + Vec3(c) * Float(w / total);
-                    l.area = total;
-                    l.has_position = true;
-                }
-            }
-        }
-    }
-    return out;
-}
-
 /// Luminaires of the same file, form and multiplier, listed once with their placements.
 struct LuminaireGroup {
-    Luminaire first;
-    std::vector<Luminaire> members;
+    PhotometricLuminaire first;
+    std::vector<PhotometricLuminaire> members;
 };
 
-std::vector<LuminaireGroup> group_luminaires(const std::vector<Luminaire>& lums) {
+std::vector<LuminaireGroup> group_luminaires(const std::vector<PhotometricLuminaire>& lums) {
     std::vector<LuminaireGroup> groups;
-    for (const Luminaire& l : lums) {
+    for (const PhotometricLuminaire& l : lums) {
         auto same = [&](const LuminaireGroup& g) {
-            const PhotometricData& a = *g.first.data;
-            return (g.first.data == l.data || (a.source == l.data->source &&
-                                               a.candela == l.data->candela)) &&
+            const PhotometricData& a = *g.first.profile->data;
+            const PhotometricData& b = *l.profile->data;
+            return (&a == &b || (a.source == b.source && a.candela == b.candela)) &&
                    g.first.opening == l.opening &&
                    std::abs(g.first.multiplier - l.multiplier) <= 1e-6 * std::abs(l.multiplier);
         };
@@ -155,8 +91,8 @@ void row(std::string& h, const std::string& name_html, const std::string& value_
 }
 
 std::string luminaire_section(const LuminaireGroup& grp, size_t index) {
-    const Luminaire& l = grp.first;
-    const PhotometricData& d = *l.data;
+    const PhotometricLuminaire& l = grp.first;
+    const PhotometricData& d = *l.profile->data;
     std::string h;
     std::string title = keyword(d, {"LUMINAIRE", "LUMCAT"});
     const std::string file = std::filesystem::path(d.source).filename().string();
@@ -202,13 +138,12 @@ std::string luminaire_section(const LuminaireGroup& grp, size_t index) {
     row(h, "Flux in the scene", num(l.multiplier * flux) + " lm per luminaire");
     row(h, "Number in the scene", std::to_string(grp.members.size()));
     std::string places;
-    for (const Luminaire& m : grp.members) {
+    for (const PhotometricLuminaire& m : grp.members) {
         if (!places.empty()) places += "<br/>";
-        places += m.has_position ? fmt::format("({}, {}, {}) m", num(m.centroid.x),
-                                               num(m.centroid.y), num(m.centroid.z))
-                                 : std::string("(a sphere or disk opening)");
-        places += fmt::format(", nadir towards ({}, {}, {})", num(m.nadir.x), num(m.nadir.y),
-                              num(m.nadir.z));
+        const Point3 c = m.centre();
+        const Vec3 n = m.nadir();
+        places += fmt::format("({}, {}, {}) m, nadir towards ({}, {}, {})", num(c.x), num(c.y),
+                              num(c.z), num(n.x), num(n.y), num(n.z));
     }
     row(h, "Positions", places);
     h += "</table>\n";
@@ -574,7 +509,7 @@ svg .ax{font-size:11px;fill:#333}svg .cl{font-size:11px;fill:#111;paint-order:st
     h += "</table>\n";
 
     // ---- luminaires
-    std::vector<Luminaire> lums = scene_luminaires(scene);
+    std::vector<PhotometricLuminaire> lums = photometric_luminaires(scene);
     h += "<h2>Luminaires</h2>\n";
     if (lums.empty())
         h += "<p>The scene has no luminaire from a photometric file (IES or EULUMDAT).</p>\n";
