@@ -9,8 +9,12 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <atomic>
+#include <condition_variable>
 #include <mutex>
 #include <set>
+#include <thread>
+#include <utility>
 
 #if __has_include(<sys/mman.h>)
 #include <sys/mman.h>
@@ -93,30 +97,103 @@ bool is_gzip(std::string_view bytes) {
            static_cast<unsigned char>(bytes[1]) == 0x8b;
 }
 
-GunzipBytes gunzip_bytes(std::string_view in, uint64_t limit) {
-    auto fail = [](const std::string& why) -> void { throw Error(why); };
-    if (!is_gzip(in)) fail("not gzip data (it does not start with the bytes 1f 8b)");
-    // The last member's ISIZE (its size mod 2^32) is a first guess of the output size. The
-    // buffer is not initialised: pages a wrong guess (a corrupt trailer) allocates in vain
-    // are never touched.
-    uint64_t guess = uint64_t(in.size()) * 4;
-    if (in.size() >= 18) {
-        const auto* t = reinterpret_cast<const unsigned char*>(in.data() + in.size() - 4);
-        guess = std::max<uint64_t>(guess, uint32_t(t[0]) | uint32_t(t[1]) << 8 |
-                                              uint32_t(t[2]) << 16 | uint32_t(t[3]) << 24);
+namespace {
+
+/// The last member's ISIZE (RFC 1952 2.3.1: its uncompressed size mod 2^32), or 0 when the
+/// data are too short to have a trailer.
+uint64_t gzip_trailer_size(std::string_view in) {
+    if (in.size() < 18) return 0;
+    const auto* t = reinterpret_cast<const unsigned char*>(in.data() + in.size() - 4);
+    return uint32_t(t[0]) | uint32_t(t[1]) << 8 | uint32_t(t[2]) << 16 | uint32_t(t[3]) << 24;
+}
+
+/// zlib over all the members of gzip data, a piece of output at a time, into wherever the
+/// caller points it. Throws sr::Error on corrupt or truncated data.
+class GzipInflater {
+  public:
+    explicit GzipInflater(std::string_view in)
+        : m_next(reinterpret_cast<const unsigned char*>(in.data())), m_left(in.size()) {
+        if (!is_gzip(in)) throw Error("not gzip data (it does not start with the bytes 1f 8b)");
+        if (inflateInit2(&m_z, 16 + MAX_WBITS) != Z_OK)  // 16+: gzip wrapper only
+            throw Error("cannot initialise zlib");
     }
+    ~GzipInflater() { inflateEnd(&m_z); }
+    GzipInflater(const GzipInflater&) = delete;
+    GzipInflater& operator=(const GzipInflater&) = delete;
+
+    struct Step {
+        uint64_t bytes = 0;  ///< written to dst
+        bool end = false;    ///< the last member has ended
+    };
+    /// Writes at most n > 0 bytes to dst.
+    Step step(char* dst, uint64_t n) {
+        // zlib counts in uInt: feed and drain at most 1 GiB per call.
+        const uInt in_chunk = uInt(std::min<uint64_t>(m_left, uint64_t(1) << 30));
+        const uInt out_chunk = uInt(std::min<uint64_t>(n, uint64_t(1) << 30));
+        m_z.next_in = const_cast<Bytef*>(m_next);
+        m_z.avail_in = in_chunk;
+        m_z.next_out = reinterpret_cast<Bytef*>(dst);
+        m_z.avail_out = out_chunk;
+        const int r = inflate(&m_z, Z_NO_FLUSH);
+        m_next += in_chunk - m_z.avail_in;
+        m_left -= in_chunk - m_z.avail_in;
+        Step s;
+        s.bytes = out_chunk - m_z.avail_out;
+        m_produced += s.bytes;
+        if (r == Z_STREAM_END) {
+            // Another member may follow (gzip concatenates them); anything else is ignored,
+            // as gzip -d does (garbage() says how much, for a warning).
+            s.end = m_left == 0 ||
+                    !is_gzip(std::string_view(reinterpret_cast<const char*>(m_next), m_left));
+            if (s.end) {
+                if (std::any_of(m_next, m_next + m_left, [](unsigned char c) { return c; }))
+                    m_garbage = m_left;
+            } else if (inflateReset(&m_z) != Z_OK) {
+                throw Error("cannot reset zlib");
+            }
+            return s;
+        }
+        if (r == Z_DATA_ERROR)
+            throw Error(fmt::format("corrupt gzip data ({})", m_z.msg ? m_z.msg : "invalid data"));
+        if (r == Z_MEM_ERROR) throw Error("out of memory while decompressing");
+        if (r != Z_BUF_ERROR && r != Z_OK)
+            throw Error(fmt::format("zlib error {} while decompressing", r));
+        if (m_left == 0 && m_z.avail_out > 0)
+            throw Error(fmt::format("truncated gzip data (the compressed stream ends after {} "
+                                    "decompressed bytes)",
+                                    m_produced));
+        return s;  // more output room or more input needed
+    }
+    /// Bytes of non-zero trailing garbage after the last member.
+    uint64_t garbage() const { return m_garbage; }
+
+  private:
+    z_stream m_z{};
+    const unsigned char* m_next;
+    uint64_t m_left;
+    uint64_t m_produced = 0;
+    uint64_t m_garbage = 0;
+};
+
+void warn_garbage(uint64_t bytes) {
+    if (bytes > 0)
+        warning(SourceLoc{}, fmt::format("{} bytes of trailing garbage after gzip data ignored",
+                                         bytes));
+}
+
+}  // namespace
+
+GunzipBytes gunzip_bytes(std::string_view in, uint64_t limit) {
+    GzipInflater z(in);
+    // The last member's ISIZE is a first guess of the output size. The buffer is not
+    // initialised: pages a wrong guess (a corrupt trailer) allocates in vain are never
+    // touched.
+    const uint64_t guess = std::max<uint64_t>(uint64_t(in.size()) * 4, gzip_trailer_size(in));
     // One byte more than the limit, to tell "exactly the limit" from "more".
     const uint64_t cap = limit + 1;
     GunzipBytes out;
     uint64_t room = std::max<uint64_t>(std::min<uint64_t>(guess, cap), 1);
     out.data = std::make_unique_for_overwrite<char[]>(room);
-
-    z_stream z{};
-    if (inflateInit2(&z, 16 + MAX_WBITS) != Z_OK)  // 16+: gzip wrapper only
-        fail("cannot initialise zlib");
-    std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, &inflateEnd);
-    const auto* next_in = reinterpret_cast<const unsigned char*>(in.data());
-    uint64_t left_in = in.size();
     uint64_t produced = 0;
     for (;;) {
         if (produced == room) {
@@ -127,49 +204,128 @@ GunzipBytes gunzip_bytes(std::string_view in, uint64_t limit) {
             out.data = std::move(grown);
             room = bigger;
         }
-        // zlib counts in uInt: feed and drain at most 1 GiB per call.
-        const uInt in_chunk = uInt(std::min<uint64_t>(left_in, uint64_t(1) << 30));
-        const uInt out_chunk = uInt(std::min<uint64_t>(room - produced, uint64_t(1) << 30));
-        z.next_in = const_cast<Bytef*>(next_in);
-        z.avail_in = in_chunk;
-        z.next_out = reinterpret_cast<Bytef*>(out.data.get() + produced);
-        z.avail_out = out_chunk;
-        const int r = inflate(&z, Z_NO_FLUSH);
-        next_in += in_chunk - z.avail_in;
-        left_in -= in_chunk - z.avail_in;
-        produced += out_chunk - z.avail_out;
-        if (r == Z_STREAM_END) {
-            // Another member may follow (gzip concatenates them); anything else is ignored,
-            // as gzip -d does, with a warning.
-            if (left_in == 0) break;
-            if (!is_gzip(std::string_view(reinterpret_cast<const char*>(next_in), left_in))) {
-                if (std::any_of(next_in, next_in + left_in, [](unsigned char c) { return c; }))
-                    warning(SourceLoc{}, fmt::format("{} bytes of trailing garbage after "
-                                                     "gzip data ignored",
-                                                     left_in));
-                break;
-            }
-            if (inflateReset(&z) != Z_OK) fail("cannot reset zlib");
-            continue;
-        }
-        if (r == Z_DATA_ERROR)
-            fail(fmt::format("corrupt gzip data ({})", z.msg ? z.msg : "invalid data"));
-        if (r == Z_MEM_ERROR) fail("out of memory while decompressing");
-        if (r == Z_BUF_ERROR || r == Z_OK) {
-            if (left_in == 0 && z.avail_out > 0)
-                fail(
-                    fmt::format("truncated gzip data (the compressed stream ends after {} "
-                                "decompressed bytes)",
-                                produced));
-            continue;  // more output room or more input needed
-        }
-        fail(fmt::format("zlib error {} while decompressing", r));
+        const GzipInflater::Step s = z.step(out.data.get() + produced, room - produced);
+        produced += s.bytes;
+        if (s.end) break;
     }
     if (produced > limit)
-        fail(fmt::format("decompresses to more than the limit of {} bytes ({} MiB)", limit,
-                         limit >> 20));
+        throw Error(fmt::format("decompresses to more than the limit of {} bytes ({} MiB)",
+                                limit, limit >> 20));
+    warn_garbage(z.garbage());
     out.size = produced;
     return out;
+}
+
+struct ConcurrentGunzip::Shared {
+    std::mutex m;
+    std::condition_variable cv;
+    uint64_t ready = 0;
+    enum class Status { running, done, failed, mismatch } status = Status::running;
+    std::string failure;
+    uint64_t garbage = 0;
+    std::atomic<bool> cancel{false};
+};
+
+std::unique_ptr<ConcurrentGunzip> ConcurrentGunzip::start(std::string_view compressed,
+                                                          uint64_t limit, uint64_t min_size) {
+    const uint64_t size = gzip_trailer_size(compressed);
+    if (!is_gzip(compressed) || size < std::max<uint64_t>(min_size, 1) || size > limit)
+        return nullptr;
+    return std::unique_ptr<ConcurrentGunzip>(new ConcurrentGunzip(compressed, size));
+}
+
+ConcurrentGunzip::ConcurrentGunzip(std::string_view compressed, uint64_t size)
+    : m_data(std::make_unique_for_overwrite<char[]>(size)),
+      m_size(size),
+      m_shared(std::make_unique<Shared>()) {
+    // 4 MiB pieces: a reader waits at most one piece behind the inflater.
+    m_thread = std::thread([this, compressed] {
+        constexpr uint64_t kPiece = uint64_t(4) << 20;
+        Shared& sh = *m_shared;
+        auto finish = [&](Shared::Status st, uint64_t produced) {
+            std::lock_guard lock(sh.m);
+            sh.ready = produced;
+            sh.status = st;
+            sh.cv.notify_all();
+        };
+        uint64_t produced = 0;
+        try {
+            GzipInflater z(compressed);
+            for (;;) {
+                if (sh.cancel.load(std::memory_order_relaxed))
+                    return finish(Shared::Status::failed, produced);
+                if (produced == m_size) {
+                    // Full: the data must end here. One byte more means they are larger
+                    // than the trailer said (several members, or a size over 4 GiB).
+                    char extra = 0;
+                    const GzipInflater::Step s = z.step(&extra, 1);
+                    if (s.bytes > 0) return finish(Shared::Status::mismatch, produced);
+                    if (s.end) break;
+                    continue;
+                }
+                const GzipInflater::Step s =
+                    z.step(m_data.get() + produced, std::min(kPiece, m_size - produced));
+                produced += s.bytes;
+                if (s.end) {
+                    if (produced != m_size) return finish(Shared::Status::mismatch, produced);
+                    break;
+                }
+                std::lock_guard lock(sh.m);
+                sh.ready = produced;
+                sh.cv.notify_all();
+            }
+            sh.garbage = z.garbage();
+            finish(Shared::Status::done, produced);
+        } catch (const Error& e) {
+            {
+                std::lock_guard lock(sh.m);
+                sh.failure = e.what();
+            }
+            finish(Shared::Status::failed, produced);
+        } catch (const std::bad_alloc&) {
+            {
+                std::lock_guard lock(sh.m);
+                sh.failure = "out of memory while decompressing";
+            }
+            finish(Shared::Status::failed, produced);
+        }
+    });
+}
+
+ConcurrentGunzip::~ConcurrentGunzip() {
+    m_shared->cancel = true;
+    if (m_thread.joinable()) m_thread.join();
+}
+
+void ConcurrentGunzip::wait(uint64_t n) {
+    Shared& sh = *m_shared;
+    n = std::min(n, m_size);
+    std::unique_lock lock(sh.m);
+    sh.cv.wait(lock, [&] { return sh.ready >= n || sh.status != Shared::Status::running; });
+    if (sh.ready >= n) return;
+    if (sh.status == Shared::Status::mismatch) throw SizeMismatch{};
+    throw Error(sh.failure.empty() ? std::string("decompression stopped") : sh.failure);
+}
+
+void ConcurrentGunzip::finish() {
+    wait(m_size);
+    if (m_thread.joinable()) m_thread.join();
+    // Full but not yet known to end where the trailer said: the status decides.
+    Shared& sh = *m_shared;
+    if (sh.status == Shared::Status::mismatch) throw SizeMismatch{};
+    if (sh.status == Shared::Status::failed) throw Error(sh.failure);
+    warn_garbage(std::exchange(sh.garbage, 0));
+}
+
+ConcurrentGunzip::Outcome ConcurrentGunzip::outcome(std::string* why) {
+    if (m_thread.joinable()) m_thread.join();
+    Shared& sh = *m_shared;
+    if (sh.status == Shared::Status::mismatch) return Outcome::mismatch;
+    if (sh.status == Shared::Status::failed) {
+        if (why) *why = sh.failure;
+        return Outcome::failed;
+    }
+    return Outcome::ok;
 }
 
 std::string gunzip(std::string_view in, uint64_t limit) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 namespace sr {
@@ -58,6 +59,43 @@ struct GunzipBytes {
     std::string_view view() const { return {data.get(), size_t(size)}; }
 };
 GunzipBytes gunzip_bytes(std::string_view compressed, uint64_t limit);
+
+/// gzip data decompressed on a thread of its own while a reader consumes the front of the
+/// output: a 250 MB mesh is parsed as it is inflated instead of after. The output buffer has
+/// the size the last member's trailer states (ISIZE); data that turn out larger or smaller
+/// (several members, over 4 GiB) make wait()/finish() throw SizeMismatch, and the caller
+/// falls back to gunzip_bytes(). Errors are gunzip()'s, with the same messages.
+class ConcurrentGunzip {
+  public:
+    struct SizeMismatch {};
+    /// Starts when `compressed` (which must outlive the object) is gzip data whose trailer
+    /// promises between `min_size` and `limit` bytes; null otherwise.
+    static std::unique_ptr<ConcurrentGunzip> start(std::string_view compressed, uint64_t limit,
+                                                   uint64_t min_size);
+    ~ConcurrentGunzip();  ///< stops the inflater and joins it
+    ConcurrentGunzip(const ConcurrentGunzip&) = delete;
+    ConcurrentGunzip& operator=(const ConcurrentGunzip&) = delete;
+
+    /// The promised extent; only its first bytes that wait() has returned for are valid.
+    std::string_view view() const { return {m_data.get(), size_t(m_size)}; }
+    /// Blocks until the first min(n, size) bytes are there. Throws sr::Error if the data are
+    /// corrupt or truncated before them, SizeMismatch if they are not the promised size.
+    void wait(uint64_t n);
+    /// Waits for the end and checks it: throws as wait(), warns about trailing garbage.
+    void finish();
+    /// After the reader's own error: waits for the inflater to end and says how it ended
+    /// (its error first, as the serial path would have reported it).
+    enum class Outcome { ok, failed, mismatch };
+    Outcome outcome(std::string* why);
+
+  private:
+    ConcurrentGunzip(std::string_view compressed, uint64_t size);
+    struct Shared;
+    std::unique_ptr<char[]> m_data;
+    uint64_t m_size;
+    std::unique_ptr<Shared> m_shared;
+    std::thread m_thread;
+};
 
 /// `data` compressed as one gzip member (zlib's deflate at `level` 1-9): what `gzip -c`
 /// makes. For tests and benchmarks that make .gz inputs.

@@ -89,6 +89,52 @@ TEST(Gzip, OutputBeyondTheLimitIsAnErrorNamingIt) {
     EXPECT_NE(error_of([&] { gunzip(gz, zeros.size() - 1); }).find("limit"), std::string::npos);
 }
 
+TEST(Gzip, ConcurrentInflateGivesWhatGunzipGives) {
+    const std::string text = some_text(size_t(5) << 20);  // two 4 MiB pieces
+    const std::string gz = gzip_compress(text, 1);
+    EXPECT_EQ(ConcurrentGunzip::start(gz, 64 << 20, text.size() + 1), nullptr);  // too small
+    EXPECT_EQ(ConcurrentGunzip::start(gz, text.size() - 1, 1), nullptr);  // over the limit
+    EXPECT_EQ(ConcurrentGunzip::start(text, 64 << 20, 1), nullptr);  // not gzip
+    auto z = ConcurrentGunzip::start(gz, 64 << 20, 1);
+    ASSERT_NE(z, nullptr);
+    ASSERT_EQ(z->view().size(), text.size());
+    z->wait(100);
+    EXPECT_EQ(z->view().substr(0, 100), text.substr(0, 100));
+    z->finish();
+    EXPECT_TRUE(z->view() == text);
+    EXPECT_EQ(z->outcome(nullptr), ConcurrentGunzip::Outcome::ok);
+    // Stopped early: the destructor stops the inflater.
+    auto early = ConcurrentGunzip::start(gz, 64 << 20, 1);
+    early->wait(10);
+    early.reset();
+}
+
+TEST(Gzip, ConcurrentInflateReportsGunzipsErrorsAndSizeMismatches) {
+    const std::string text = some_text(size_t(1) << 20);
+    const std::string gz = gzip_compress(text, 1);
+    // Truncated, with the trailer of a whole file appended so that the size is promised.
+    const std::string cut = gz.substr(0, gz.size() / 2) + gz.substr(gz.size() - 8);
+    const std::string want = error_of([&] { gunzip(cut, 64 << 20); });
+    ASSERT_FALSE(want.empty());
+    auto z = ConcurrentGunzip::start(cut, 64 << 20, 1);
+    ASSERT_NE(z, nullptr);
+    EXPECT_EQ(error_of([&] { z->wait(text.size()); }), want);
+    std::string why;
+    EXPECT_EQ(z->outcome(&why), ConcurrentGunzip::Outcome::failed);
+    EXPECT_EQ(why, want);
+    // Two members: the trailer promises the last member's size only.
+    const std::string two = gzip_compress(text.substr(0, 1000), 1) + gzip_compress(text, 1);
+    auto m = ConcurrentGunzip::start(two, 64 << 20, 1);
+    ASSERT_NE(m, nullptr);
+    EXPECT_THROW(m->finish(), ConcurrentGunzip::SizeMismatch);
+    EXPECT_EQ(m->outcome(nullptr), ConcurrentGunzip::Outcome::mismatch);
+    // Promising more than there is (the first member is the shorter): also a mismatch.
+    const std::string shorter = gzip_compress(text, 1) + gzip_compress(text + text, 1);
+    auto s = ConcurrentGunzip::start(shorter, 64 << 20, 1);
+    ASSERT_NE(s, nullptr);
+    EXPECT_THROW(s->finish(), ConcurrentGunzip::SizeMismatch);
+}
+
 TEST(Gzip, ReadInputFileDecompressesAndRecordsTheCompressedPath) {
     std::random_device rd;
     const fs::path dir = fs::temp_directory_path() / ("sr_gz_test_" + std::to_string(rd()));

@@ -460,7 +460,24 @@ class BinaryReader {
   public:
     static constexpr bool kBinary = true;
     static constexpr bool kSwap = Swap;
-    BinaryReader(const char* begin, const char* end) : m_p(begin), m_end(end) {}
+    /// Over [begin, end). With a `stream`, the bytes are still being inflated into the
+    /// buffer that starts at `base`: need_bytes() waits for them before they are read.
+    BinaryReader(const char* begin, const char* end, ConcurrentGunzip* stream = nullptr,
+                 const char* base = nullptr)
+        : m_p(begin), m_end(end), m_ready(stream ? begin : end), m_stream(stream), m_base(base) {}
+
+    /// Makes the n bytes from `from` (clipped to the end) readable.
+    void need_bytes(const char* from, std::size_t n) {
+        const char* upto = n >= static_cast<std::size_t>(m_end - from) ? m_end : from + n;
+        if (upto > m_ready) {
+            m_stream->wait(static_cast<std::uint64_t>(upto - m_base));
+            m_ready = upto;
+        }
+    }
+    void need_all() { need_bytes(m_p, remaining()); }
+    /// How far from `from` the bytes are readable without waiting.
+    const char* ready() const { return m_ready; }
+    const char* end() const { return m_end; }
 
     std::size_t remaining() const { return static_cast<std::size_t>(m_end - m_p); }
     const char* pos() const { return m_p; }
@@ -494,6 +511,9 @@ class BinaryReader {
   private:
     const char* m_p;
     const char* m_end;
+    const char* m_ready;
+    ConcurrentGunzip* m_stream;
+    const char* m_base;
 };
 
 bool parse_float_token(std::string_view tok, Type t, double& v) {
@@ -761,10 +781,16 @@ void read_vertices_fixed(BinaryReader<Swap>& r, const Element& e, Context& c) {
     if (uv) m.uv.resize(n);
     auto fill = [&](auto get) {
         const char* rec = r.pos();
-        for (std::size_t i = 0; i < n; ++i, rec += stride) {
-            m.p[i] = Point3(get(rec, kX), get(rec, kY), get(rec, kZ));
-            if (normals) m.n[i] = Normal3(get(rec, kNx), get(rec, kNy), get(rec, kNz));
-            if (uv) m.uv[i] = Point2(get(rec, kU), get(rec, kV));
+        // In blocks, each waited for when the file is still being inflated.
+        constexpr std::size_t kBlock = std::size_t(1) << 16;
+        for (std::size_t i0 = 0; i0 < n; i0 += kBlock) {
+            const std::size_t i1 = std::min(n, i0 + kBlock);
+            r.need_bytes(rec, (i1 - i0) * stride);
+            for (std::size_t i = i0; i < i1; ++i, rec += stride) {
+                m.p[i] = Point3(get(rec, kX), get(rec, kY), get(rec, kZ));
+                if (normals) m.n[i] = Normal3(get(rec, kNx), get(rec, kNy), get(rec, kNz));
+                if (uv) m.uv[i] = Point2(get(rec, kU), get(rec, kV));
+            }
         }
     };
     if (all_float) {
@@ -796,7 +822,13 @@ void read_faces_fast(BinaryReader<Swap>& r, const Element& e, Context& c) {
             if (v[j] >= nv) fail_face_index(c, f, static_cast<std::int64_t>(Index(v[j])));
         }
     };
+    // Readable up to `ready` (the file may still be inflated): refreshed in 1 MiB steps.
+    const char* ready = p;
     for (std::int64_t f = 0; f < e.count; ++f) {
+        if (static_cast<std::size_t>(ready - p) < kTri + 4 && ready != end) {
+            r.need_bytes(p, std::size_t(1) << 20);
+            ready = r.ready();
+        }
         if (p == end) eof(f);
         const unsigned k = static_cast<unsigned char>(*p);
         if (k == 3) {
@@ -843,6 +875,7 @@ void read_element(R& r, const Element& e, Context& c) {
                 return;
             }
         }
+        r.need_all();
         if (&e != vertex && &e != face && e.all_scalar()) {
             std::size_t stride = 0;
             for (const Property& p : e.props) stride += type_size(p.type);
@@ -861,10 +894,26 @@ void read_body(R& r, Context& c) {
     for (const Element& e : c.h.elements) read_element(r, e, c);
 }
 
-}  // namespace
 
-TriangleMeshData parse_ply(std::string_view bytes, const std::string& name) {
-    Header h = parse_header(bytes, name);
+/// parse_ply(), over bytes that a `stream` may still be inflating.
+TriangleMeshData parse_ply_from(std::string_view bytes, const std::string& name,
+                                ConcurrentGunzip* stream) {
+    Header h;
+    if (stream) {
+        // The header is text at the front: parsed from the first 64 KiB, or from the whole
+        // when it fails there (its end lies further, or it is malformed).
+        constexpr std::size_t kHead = std::size_t(64) << 10;
+        stream->wait(kHead);
+        try {
+            h = parse_header(bytes.substr(0, kHead), name);
+        } catch (const Error&) {
+            if (bytes.size() <= kHead) throw;
+            stream->wait(bytes.size());
+            h = parse_header(bytes, name);
+        }
+    } else {
+        h = parse_header(bytes, name);
+    }
     resolve_roles(h, name);
     TriangleMeshData mesh;
     Context c{name, h, mesh, h.elements[h.vertex_element].count};
@@ -872,6 +921,7 @@ TriangleMeshData parse_ply(std::string_view bytes, const std::string& name) {
     const char* end = bytes.data() + bytes.size();
     constexpr bool kLittle = std::endian::native == std::endian::little;
     if (h.format == Format::Ascii) {
+        if (stream) stream->wait(bytes.size());
         AsciiReader r(begin, end, h.data_line);
         read_body(r, c);
         if (r.next_token() == Status::Ok)
@@ -879,20 +929,27 @@ TriangleMeshData parse_ply(std::string_view bytes, const std::string& name) {
     } else {
         std::size_t rest = 0;
         if (h.format == Format::BinaryLittleEndian) {
-            BinaryReader<!kLittle> r(begin, end);
+            BinaryReader<!kLittle> r(begin, end, stream, bytes.data());
             read_body(r, c);
             rest = r.remaining();
         } else {
-            BinaryReader<kLittle> r(begin, end);
+            BinaryReader<kLittle> r(begin, end, stream, bytes.data());
             read_body(r, c);
             rest = r.remaining();
         }
+        if (stream) stream->finish();
         if (rest > 0)
             warning(SourceLoc{},
                     fmt::format("{}: ignored {} bytes after the last element", name, rest));
     }
     validate(mesh, name);
     return mesh;
+}
+
+}  // namespace
+
+TriangleMeshData parse_ply(std::string_view bytes, const std::string& name) {
+    return parse_ply_from(bytes, name, nullptr);
 }
 
 namespace {
@@ -951,7 +1008,7 @@ class FileBytes {
 
 }  // namespace
 
-TriangleMeshData read_ply(const std::string& path) {
+TriangleMeshData read_ply(const std::string& path, std::uint64_t concurrent_gunzip_bytes) {
     uint64_t size = 0;
     if (std::string why = regular_file_problem(path, kMaxSceneFileBytes, &size); !why.empty())
         fail(path, 0, "cannot read file: {}", why);
@@ -959,6 +1016,27 @@ TriangleMeshData read_ply(const std::string& path) {
     const std::string_view bytes = file.view();
     // gzip data (".ply.gz", as pbrt-v4 reads through zlib) is decompressed in memory.
     if (is_gzip(bytes)) {
+        // A large file is parsed while a thread of its own inflates it (wall time: the
+        // inflate's alone, instead of the inflate's and the parse's).
+        if (auto stream = ConcurrentGunzip::start(bytes, kMaxSceneFileBytes,
+                                                  concurrent_gunzip_bytes)) {
+            try {
+                return parse_ply_from(stream->view(), path, stream.get());
+            } catch (const ConcurrentGunzip::SizeMismatch&) {
+                // Not the size its trailer states (several members): inflated whole below.
+            } catch (const Error&) {
+                // The data's own error comes first, as when inflated before parsing.
+                std::string why;
+                switch (stream->outcome(&why)) {
+                    case ConcurrentGunzip::Outcome::ok:
+                        throw;
+                    case ConcurrentGunzip::Outcome::failed:
+                        fail(path, 0, "{}", why);
+                    case ConcurrentGunzip::Outcome::mismatch:
+                        break;
+                }
+            }
+        }
         GunzipBytes plain;
         try {
             plain = gunzip_bytes(bytes, kMaxSceneFileBytes);

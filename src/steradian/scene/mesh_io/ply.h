@@ -8,6 +8,7 @@
 /// vertices (quads are split along the 0-2 diagonal) and an optional integer scalar
 /// "face_indices". Every scalar type and its sized alias (char/int8 ... double/float64) is
 /// accepted for every property; all other elements and properties are skipped.
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -18,7 +19,12 @@ namespace sr {
 /// Reads the PLY file at `path`. Throws sr::Error whose message starts with "path: " (and
 /// "path:line: " for header errors and ASCII data errors) on unreadable, malformed or
 /// unsupported input; the result has passed validate().
-TriangleMeshData read_ply(const std::string& path);
+/// gzip data ("name.ply.gz") are decompressed in memory; from `concurrent_gunzip_bytes` of
+/// decompressed size on (by the gzip trailer), on a thread of their own while the front is
+/// parsed.
+inline constexpr std::uint64_t kPlyConcurrentGunzipBytes = std::uint64_t(16) << 20;
+TriangleMeshData read_ply(const std::string& path,
+                          std::uint64_t concurrent_gunzip_bytes = kPlyConcurrentGunzipBytes);
 
 /// Parses a whole PLY file already in memory; `name` prefixes error messages.
 TriangleMeshData parse_ply(std::string_view bytes, const std::string& name);

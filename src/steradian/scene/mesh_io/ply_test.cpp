@@ -168,21 +168,25 @@ std::string write_file(const std::string& bytes, const std::string& suffix = "")
     return path;
 }
 
-TriangleMeshData read_bytes(const std::string& bytes) {
+/// Reads `bytes` from a file; gzip data from `concurrent` bytes on are inflated while parsed
+/// (1: always; the default: only large files).
+TriangleMeshData read_bytes(const std::string& bytes,
+                            std::uint64_t concurrent = kPlyConcurrentGunzipBytes) {
     const std::string path = write_file(bytes);
-    TriangleMeshData m = read_ply(path);
+    TriangleMeshData m = read_ply(path, concurrent);
     fs::remove(path);
     return m;
 }
 
 /// Reads `bytes` from a file and expects an sr::Error starting with "path:" and containing
 /// `expected` (where "{path}" stands for the file's path).
-void expect_error(const std::string& bytes, const std::string& expected) {
+void expect_error(const std::string& bytes, const std::string& expected,
+                  std::uint64_t concurrent = kPlyConcurrentGunzipBytes) {
     const std::string path = write_file(bytes);
     std::string want = expected;
     if (auto pos = want.find("{path}"); pos != std::string::npos) want.replace(pos, 6, path);
     try {
-        read_ply(path);
+        read_ply(path, concurrent);
         ADD_FAILURE() << "no error; expected: " << want;
     } catch (const Error& e) {
         const std::string msg = e.what();
@@ -307,6 +311,44 @@ TEST_P(PlyFormats, GzipCompressedReadsAsTheUncompressed) {
     EXPECT_EQ(m.indices, g.tri_indices);
     const std::string gz = gzip_compress(bytes);
     expect_error(gz.substr(0, gz.size() - 12), "{path}: truncated gzip data");
+}
+
+TEST_P(PlyFormats, GzipParsedWhileInflatedReadsAsTheUncompressed) {
+    // Binary: 90 000 vertices and 178 000 faces, 5.3 MB, more than one of the inflater's
+    // 4 MiB pieces, so the reader waits for pieces. ASCII is waited for whole: smaller.
+    const bool ascii = GetParam() == PlyFormat::Ascii;
+    const RandomGrid g = random_grid(ascii ? 30 : 300, ascii ? 20 : 300, /*quads=*/true, 5);
+    const std::string bytes =
+        write_ply(GetParam(), {full_vertex_element(g), face_element(g.faces)});
+    const std::string gz = gzip_compress(bytes, 1);
+    const TriangleMeshData a = read_bytes(gz, 1);
+    expect_points(a.p, g.p);
+    expect_points(a.n, g.n);
+    expect_uvs(a.uv, g.uv);
+    EXPECT_EQ(a.indices, g.tri_indices);
+    // Several members: the trailer's size is the last member's, so the concurrent reader
+    // finds the data larger than promised and falls back to inflating the whole first.
+    const std::size_t half = bytes.size() / 2;
+    const TriangleMeshData b = read_bytes(
+        gzip_compress(bytes.substr(0, half), 1) + gzip_compress(bytes.substr(half), 1), 1);
+    EXPECT_EQ(b.p.size(), g.p.size());
+    EXPECT_EQ(b.indices, g.tri_indices);
+    // Truncated anywhere: the inflater's error, as when inflated before parsing.
+    for (std::size_t cut : {gz.size() / 10, gz.size() - 12})
+        expect_error(gz.substr(0, cut), "{path}: truncated gzip data", 1);
+    // A face that is wrong in the data before a corrupt stretch: the data's own error is
+    // reported first, as when the file is inflated whole before it is parsed.
+    const RandomGrid small = random_grid(30, 20, /*quads=*/true, 6);
+    std::vector<std::vector<int>> faces = small.faces;
+    faces[0][1] = int(small.p.size());
+    const std::string bad_bytes =
+        write_ply(GetParam(), {full_vertex_element(small), face_element(faces)});
+    std::string bad = gzip_compress(bad_bytes, 1);
+    bad[bad.size() - 6] = char(bad[bad.size() - 6] ^ 0x10);  // the trailer's CRC-32
+    expect_error(bad, "{path}: corrupt gzip data", 1);
+    expect_error(bad, "{path}: corrupt gzip data");
+    // Without the corrupt stretch, the face's own error.
+    expect_error(gzip_compress(bad_bytes, 1), "references vertex", 1);
 }
 
 TEST_P(PlyFormats, DoublePositions) {
