@@ -77,7 +77,7 @@ class ConcurrentGunzip {
     ConcurrentGunzip& operator=(const ConcurrentGunzip&) = delete;
 
     /// The promised extent; only its first bytes that wait() has returned for are valid.
-    std::string_view view() const { return {m_data.get(), size_t(m_size)}; }
+    std::string_view view() const { return {m_data, size_t(m_size)}; }
     /// Blocks until the first min(n, size) bytes are there. Throws sr::Error if the data are
     /// corrupt or truncated before them, SizeMismatch if they are not the promised size.
     void wait(uint64_t n);
@@ -87,11 +87,17 @@ class ConcurrentGunzip {
     /// (its error first, as the serial path would have reported it).
     enum class Outcome { ok, failed, mismatch };
     Outcome outcome(std::string* why);
+    /// The reader will never again read the bytes before `upto`: the inflater may reuse
+    /// their memory for later bytes (where the system lets it move pages), so those bytes
+    /// of view() become invalid, even unmapped.
+    void release(uint64_t upto);
+    /// How many pieces of memory were reused so far (for tests).
+    uint64_t pieces_reused() const;
 
   private:
     ConcurrentGunzip(std::string_view compressed, uint64_t size);
     struct Shared;
-    std::unique_ptr<char[]> m_data;
+    char* m_data = nullptr;
     uint64_t m_size;
     std::unique_ptr<Shared> m_shared;
     std::thread m_thread;

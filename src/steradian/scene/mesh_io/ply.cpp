@@ -466,10 +466,12 @@ class BinaryReader {
                  const char* base = nullptr)
         : m_p(begin), m_end(end), m_ready(stream ? begin : end), m_stream(stream), m_base(base) {}
 
-    /// Makes the n bytes from `from` (clipped to the end) readable.
+    /// Makes the n bytes from `from` (clipped to the end) readable; the bytes before `from`
+    /// are never read again (a stream may reuse their memory).
     void need_bytes(const char* from, std::size_t n) {
         const char* upto = n >= static_cast<std::size_t>(m_end - from) ? m_end : from + n;
         if (upto > m_ready) {
+            m_stream->release(static_cast<std::uint64_t>(from - m_base));
             m_stream->wait(static_cast<std::uint64_t>(upto - m_base));
             m_ready = upto;
         }
