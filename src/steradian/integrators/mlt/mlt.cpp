@@ -201,7 +201,8 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
 
     // 3. Rounds of mutations; each round's splats added chain by chain.
     std::vector<double> sums = film.splat_buffer();
-    const size_t chunk = size_t(std::max(16, 4 * threads));
+    const size_t chunk = size_t(std::max(64, 8 * threads));
+    const int n_bands = std::min(fp.height(), 4 * threads);
     std::vector<std::vector<Splat>> splats(chunk);
     std::vector<uint64_t> splat_nonfinite(chunk, 0);
     const Filter& filter = *scene.filter;
@@ -253,11 +254,19 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
                     },
                     tbb::simple_partitioner());
             });
-            for (int64_t i = c0; i < c1; ++i) {
+            // The chunk's splats, chain by chain: each pixel receives its additions in chain
+            // order, whichever thread adds into its band of rows.
+            for (int64_t i = c0; i < c1; ++i)
                 states.local().nonfinite += splat_nonfinite[size_t(i - c0)];
-                for (const Splat& sp : splats[size_t(i - c0)])
-                    film.add_splat(sums, sp.p, sp.xyz, filter);
-            }
+            arena.execute([&] {
+                tbb::parallel_for(0, n_bands, [&](int band) {
+                    const int r0 = fp.y0 + int(int64_t(band) * fp.height() / n_bands);
+                    const int r1 = fp.y0 + int(int64_t(band + 1) * fp.height() / n_bands);
+                    for (int64_t i = c0; i < c1; ++i)
+                        for (const Splat& sp : splats[size_t(i - c0)])
+                            film.add_splat(sums, sp.p, sp.xyz, filter, r0, r1);
+                });
+            });
         }
         done = round + 1;
     }

@@ -45,6 +45,11 @@ public:
     /// Number k of stream `stream` (0 <= stream < streams()) of the current proposal.
     Float get(int stream, int k);
 
+    /// Number k of stream `stream` of the state as it is (no mutation; 0 if never read).
+    Float value(int stream, int k) const {
+        const size_t i = size_t(stream) + size_t(m_streams) * size_t(k);
+        return i < m_x.size() ? m_x[i].value : 0;
+    }
     int streams() const { return m_streams; }
     bool large_step() const { return m_large_step; }
     /// How many numbers the state holds (the largest index read, plus one).
