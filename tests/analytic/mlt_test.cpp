@@ -241,6 +241,15 @@ TEST(Mlt, RefusesWhatItCannotRender) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("perspective"), std::string::npos) << e.what();
     }
+    std::string fog = cornell(kMlt, 16);
+    replace_once(fog, "WorldBegin", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" [ \"homogeneous\" ]");
+    try {
+        render_scene(fog, 1, 0);
+        ADD_FAILURE() << "a medium accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("bidirectional"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("<test>:"), std::string::npos) << e.what();
+    }
     const std::string dark = "Camera \"perspective\"\nIntegrator \"mlt\" \"integer bootstrapsamples\" [ 10 ]\n"
                              "WorldBegin\nShape \"sphere\"\n";
     try {
