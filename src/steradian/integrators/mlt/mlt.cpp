@@ -102,6 +102,12 @@ struct Chain {
     PathState current, proposed;
 };
 
+/// How many of the mutations [a, b) go to chain i of n: those j with j mod n == i.
+int64_t chain_share(int64_t i, int64_t n, int64_t a, int64_t b) {
+    auto upto = [&](int64_t x) { return x > i ? (x - i - 1) / n + 1 : 0; };
+    return upto(b) - upto(a);
+}
+
 struct Splat {
     Point2 p;
     std::array<double, 3> xyz;
@@ -144,7 +150,8 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
 
     // Mutations: pbrt-v4's (integer) area of the sample bounds per mutation per pixel, in
-    // rounds of one mutation per pixel; chain i does [i D / n, (i + 1) D / n) of a round's D.
+    // rounds of one mutation per pixel; mutation j goes to chain j mod n (so that every chain
+    // takes part when a round has fewer mutations than there are chains).
     const int64_t per_round = std::max<int64_t>(1, int64_t(area));
     const int64_t n_chains = mp.chains;
     const int64_t n_boot = int64_t(mp.bootstrap_samples) * (max_depth + 1);
@@ -208,7 +215,7 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
     const Filter& filter = *scene.filter;
     int done = 0;
     RenderStats stats;
-    for (int round = 0; round < mpp; ++round) {
+    for (int64_t round = 0; round < mpp; ++round) {
         if (round > 0 && opt.stop && opt.stop->load()) {
             stats.interrupted = true;
             break;
@@ -230,8 +237,8 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
                             uint64_t& bad = splat_nonfinite[size_t(i - c0)];
                             out.clear();
                             bad = 0;
-                            const int64_t n = (i + 1) * per_round / n_chains -
-                                              i * per_round / n_chains;
+                            const int64_t n = chain_share(i, n_chains, round * per_round,
+                                                          (round + 1) * per_round);
                             auto eval = [&](PathState& st) {
                                 evaluate(scene, film, ctx, ch.sampler, ch.depth, th, st);
                             };
@@ -268,7 +275,7 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
                 });
             });
         }
-        done = round + 1;
+        done = int(round) + 1;
     }
     progress.finish();
 
