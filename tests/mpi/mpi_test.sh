@@ -210,6 +210,21 @@ check "... within 60 s" test $((SECONDS - start)) -lt 60
 check "... saying which process" grep -q "process 1 aborts" "$tmp/dead.txt"
 check "... and writes no image" test ! -e "$tmp/dead.pfm"
 
+# Integrator "mlt" does not run on several processes yet: refused with one error, in bounded
+# time, and no image; one process of steradian-mpi renders what steradian does.
+sed 's/^WorldBegin/Integrator "mlt" "integer bootstrapsamples" [ 500 ] "integer chains" [ 16 ]\nWorldBegin/' \
+  "$tmp/scene.pbrt" > "$tmp/mlt.pbrt"
+start=$SECONDS
+run 2 render "$tmp/mlt.pbrt" -o "$tmp/mlt2.pfm" --spp 2 --threads 1 --quiet > "$tmp/mlt2.txt" 2>&1
+status=$?
+check "mlt on 2 processes is refused (status $status)" test "$status" -ne 0 -a "$status" -ne 124
+check "... within 60 s" test $((SECONDS - start)) -lt 60
+check "... saying why, once" test "$(grep -c 'several processes' "$tmp/mlt2.txt")" -eq 1
+check "... and writes no image" test ! -e "$tmp/mlt2.pfm"
+"$one" render "$tmp/mlt.pbrt" -o "$tmp/mlt1.pfm" --spp 2 --threads 1 --quiet
+run 1 render "$tmp/mlt.pbrt" -o "$tmp/mlt1mpi.pfm" --spp 2 --threads 2 --quiet
+check "mlt on 1 process of steradian-mpi: the same image" cmp -s "$tmp/mlt1.pfm" "$tmp/mlt1mpi.pfm"
+
 # An error every process meets is reported once, by process 0.
 run 3 render "$tmp/missing.pbrt" --quiet > "$tmp/missing.txt" 2>&1
 check "a missing scene fails the job" test $? -ne 0

@@ -192,14 +192,14 @@ void Film::add(std::vector<PixelSum>& buffer, int x, int y, const std::array<dou
 }
 
 void Film::add_splat(std::vector<double>& buffer, Point2 p, const std::array<double, 3>& xyz,
-                     const Filter& filter) const {
+                     const Filter& filter, int row_begin, int row_end) const {
     // The pixels whose centres lie within the filter's radius of p (pbrt-v4's splat bounds).
     const Vec2 r = filter.radius();
     const Float px = p.x + 0.5f, py = p.y + 0.5f;
     const int x0 = std::max(m_p.x0, int(std::floor(px - r.x)));
     const int x1 = std::min(m_p.x1, int(std::floor(px + r.x)) + 1);
-    const int y0 = std::max(m_p.y0, int(std::floor(py - r.y)));
-    const int y1 = std::min(m_p.y1, int(std::floor(py + r.y)) + 1);
+    const int y0 = std::max({m_p.y0, int(std::floor(py - r.y)), row_begin});
+    const int y1 = std::min({m_p.y1, int(std::floor(py + r.y)) + 1, row_end});
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             const Float w = filter.evaluate(Vec2(p.x - Float(x) - 0.5f, p.y - Float(y) - 0.5f));

@@ -5,6 +5,7 @@
 /// CIE XYZ; for a camera sensor its raw r, g, b), accumulated in double, and written as
 /// linear sRGB through `rgb_from_sensor`.
 #include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -130,9 +131,11 @@ public:
     /// `xyz` times the filter's value at each pixel centre within its radius of p into
     /// `buffer` (a splat_buffer(), or a copy of splat_sums()). The image is the pixel sums'
     /// weighted mean plus splat_sums() * splat_scale / filter integral, splat_scale being 1 /
-    /// (samples per pixel) as pbrt-v4's.
+    /// (samples per pixel) as pbrt-v4's. Only the pixel rows [row_begin, row_end) are
+    /// touched (so that threads can add the same splats into disjoint bands of rows).
     void add_splat(std::vector<double>& buffer, Point2 p, const std::array<double, 3>& xyz,
-                   const Filter& filter) const;
+                   const Filter& filter, int row_begin = std::numeric_limits<int>::min(),
+                   int row_end = std::numeric_limits<int>::max()) const;
     std::vector<double> splat_buffer() const { return std::vector<double>(m_pixels.size() * 3); }
     bool has_splats() const { return !m_splats.empty(); }
     const std::vector<double>& splat_sums() const { return m_splats; }

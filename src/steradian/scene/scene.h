@@ -58,6 +58,11 @@ struct IntegratorSettings {
     bool regularize = false;
     /// "bdpt": pbrt-v4's visualizestrategies / visualizeweights.
     bool visualize_strategies = false, visualize_weights = false;
+    /// "mlt": pbrt-v4's MLTIntegrator parameters (integrators/mlt/mlt.h).
+    struct Mlt {
+        int bootstrap_samples = 100000, chains = 1000, mutations_per_pixel = 100;
+        Float large_step_probability = 0.3f, sigma = 0.01f;
+    } mlt;
     std::string light_sampler = "bvh";  ///< pbrt-v4's names: "bvh" (its default), "power", "uniform"
     /// "volpath" in a scene with media: paths are traced through them (integrators/path/
     /// volpath.cpp); otherwise media are ignored.

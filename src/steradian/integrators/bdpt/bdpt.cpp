@@ -99,7 +99,7 @@ class Bidir {
 public:
     Bidir(const BidirContext& ctx, SampledWavelengths& lambda, Sampler& sampler,
           PathCounters& counters)
-        : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_sampler(sampler),
+        : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_sampler(&sampler),
           m_counters(counters), m_mctx(ctx.scene.material_context()) {}
 
     // ---- vertex queries ------------------------------------------------------------------
@@ -298,8 +298,8 @@ public:
             path.push_back(std::move(v));
             Vertex& cur = path.back();
             if (++added >= max_vertices) break;
-            const Float uc = m_sampler.get_1d();
-            const Point2 u = m_sampler.get_2d();
+            const Float uc = m_sampler->get_1d();
+            const Point2 u = m_sampler->get_2d();
             auto bs = cur.bsdf->sample(cur.hit.wo, uc, u, mode);
             if (!bs) break;
             pdf_fwd = bs->pdf_sa;
@@ -318,8 +318,8 @@ public:
         }
     }
 
-    /// The camera subpath: the camera vertex and up to max_depth + 1 more.
-    void camera_subpath(std::vector<Vertex>& path, const Ray& ray) {
+    /// The camera subpath: the camera vertex and up to max_walk more.
+    void camera_subpath(std::vector<Vertex>& path, const Ray& ray, int max_walk) {
         path.clear();
         Float pdf_pos = 0, pdf_dir = 0;
         m_scene.camera->pdf_we(ray, pdf_pos, pdf_dir);
@@ -329,16 +329,15 @@ public:
         c.p = ray.o;
         path.push_back(std::move(c));
         if (!(pdf_dir > 0)) return;
-        random_walk(path, ray, SampledSpectrum(1), pdf_dir, m_ctx.max_depth + 1,
-                    TransportMode::Radiance);
+        random_walk(path, ray, SampledSpectrum(1), pdf_dir, max_walk, TransportMode::Radiance);
     }
 
     /// The light subpath: a light vertex and up to max_vertices - 1 more.
     void light_subpath(std::vector<Vertex>& path, int max_vertices) {
         path.clear();
-        const Float ul = m_sampler.get_1d();
-        const Point2 u_pos = m_sampler.get_2d();
-        const Point2 u_dir = m_sampler.get_2d();
+        const Float ul = m_sampler->get_1d();
+        const Point2 u_pos = m_sampler->get_2d();
+        const Point2 u_dir = m_sampler->get_2d();
         if (max_vertices <= 0 || m_scene.light_sampler.empty()) return;
         Float pmf = 0;
         const int li = m_scene.light_sampler.sample(ul, pmf);
@@ -433,10 +432,10 @@ public:
         Float ul = 0;
         Point2 u(0, 0);
         if (t == 1 && s > 0) {
-            u = m_sampler.get_2d();
+            u = m_sampler->get_2d();
         } else if (s == 1) {
-            ul = m_sampler.get_1d();
-            u = m_sampler.get_2d();
+            ul = m_sampler->get_1d();
+            u = m_sampler->get_2d();
         }
         SampledSpectrum c(0);
         if (t > 1 && s != 0 && C[size_t(t - 1)].type == VertexType::Light) return c;
@@ -504,7 +503,7 @@ public:
     SampledSpectrum li(BdptScratch& sc, const Ray& ray, Point2 p_film, SplatSink& sink) {
         sc.camera.reserve(size_t(m_ctx.max_depth) + 3);
         sc.light.reserve(size_t(m_ctx.max_depth) + 2);
-        camera_subpath(sc.camera, ray);
+        camera_subpath(sc.camera, ray, m_ctx.max_depth + 1);
         light_subpath(sc.light, m_ctx.max_depth + 1);
         const int nc = int(sc.camera.size()), nl = int(sc.light.size());
         SampledSpectrum Lsum(0);
@@ -514,8 +513,8 @@ public:
                 if ((s == 1 && t == 1) || depth < 0 || depth > m_ctx.max_depth) continue;
                 if (m_ctx.only_depth >= 0 && depth != m_ctx.only_depth) {
                     // Keep the sampler's dimensions as the full estimator consumes them.
-                    if (t == 1) m_sampler.skip_2d();
-                    if (s == 1 && t > 1) m_sampler.skip_1d(), m_sampler.skip_2d();
+                    if (t == 1) m_sampler->skip_2d();
+                    if (s == 1 && t > 1) m_sampler->skip_1d(), m_sampler->skip_2d();
                     continue;
                 }
                 Point2 p_raster = p_film;
@@ -530,6 +529,27 @@ public:
                     Lsum += cw;
             }
         return Lsum;
+    }
+
+    /// Strategy (s, t) alone, its subpaths of exactly s and t vertices, the camera's from
+    /// `cam`, the light's from `light` and the connection's numbers from `conn`.
+    SampledSpectrum strategy(BdptScratch& sc, int s, int t, const Ray& ray, Sampler& cam,
+                             Sampler& light, Sampler& conn, Point2& p_raster) {
+        sc.camera.reserve(size_t(m_ctx.max_depth) + 3);
+        sc.light.reserve(size_t(m_ctx.max_depth) + 2);
+        m_sampler = &cam;
+        camera_subpath(sc.camera, ray, t - 1);
+        if (int(sc.camera.size()) != t) return SampledSpectrum(0);
+        sc.light.clear();
+        if (s > 0) {
+            m_sampler = &light;
+            light_subpath(sc.light, s);
+            if (int(sc.light.size()) != s) return SampledSpectrum(0);
+        }
+        m_sampler = &conn;
+        const SampledSpectrum c = connect(sc.light, sc.camera, s, t, sc.sampled, p_raster);
+        if (c.is_zero()) return c;
+        return c * mis_weight(sc.light, sc.camera, sc.sampled, s, t);
     }
 
     void lightpath(BdptScratch& sc, SplatSink& sink) {
@@ -548,7 +568,7 @@ public:
         std::vector<bdpt_test::WeightCheck> out;
         std::vector<Vertex> cam;
         cam.reserve(size_t(m_ctx.max_depth) + 3);
-        camera_subpath(cam, ray);
+        camera_subpath(cam, ray, m_ctx.max_depth + 1);
         if (int(cam.size()) < n) return out;
         cam.resize(size_t(n));
         const Vertex& last = cam.back();
@@ -634,7 +654,7 @@ private:
     const BidirContext& m_ctx;
     const Scene& m_scene;
     SampledWavelengths& m_lambda;
-    Sampler& m_sampler;
+    Sampler* m_sampler;
     PathCounters& m_counters;
     const MaterialContext m_mctx;
 };
@@ -646,6 +666,15 @@ SampledSpectrum bdpt_li(const BidirContext& ctx, BdptScratch& scratch, const Ray
                         PathCounters& counters, SplatSink& sink) {
     Bidir b(ctx, lambda, sampler, counters);
     return b.li(scratch, camera_ray, p_film, sink);
+}
+
+SampledSpectrum bdpt_strategy(const BidirContext& ctx, BdptScratch& scratch, int s, int t,
+                              const Ray& camera_ray, SampledWavelengths& lambda, Sampler& camera,
+                              Sampler& light, Sampler& connection, PathCounters& counters,
+                              Point2& p_raster) {
+    if (t < 1 || s < 0 || (s == 1 && t == 1) || s + t - 2 > ctx.max_depth) return SampledSpectrum(0);
+    Bidir b(ctx, lambda, camera, counters);
+    return b.strategy(scratch, s, t, camera_ray, camera, light, connection, p_raster);
 }
 
 void lightpath_sample(const BidirContext& ctx, BdptScratch& scratch, SampledWavelengths& lambda,

@@ -75,6 +75,18 @@ SampledSpectrum bdpt_li(const BidirContext& ctx, BdptScratch& scratch, const Ray
                         Point2 p_film, SampledWavelengths& lambda, Sampler& sampler,
                         PathCounters& counters, SplatSink& sink);
 
+/// One strategy (s, t) of bdpt alone, for Metropolis light transport (integrators/mlt/;
+/// pbrt-v4's MLTIntegrator::L): a camera subpath of exactly t vertices from `camera_ray`,
+/// whose random numbers come from `camera`, a light subpath of exactly s vertices from
+/// `light`, and the connection's numbers from `connection` (separate streams, so that a
+/// change of one subpath does not shift the numbers of the other). Returns the connection's
+/// contribution times its MIS weight (as bdpt_li weighs it), zero when a subpath ends before
+/// its length; for t = 1, p_raster is set to where the connection meets the film.
+SampledSpectrum bdpt_strategy(const BidirContext& ctx, BdptScratch& scratch, int s, int t,
+                              const Ray& camera_ray, SampledWavelengths& lambda, Sampler& camera,
+                              Sampler& light, Sampler& connection, PathCounters& counters,
+                              Point2& p_raster);
+
 /// One lightpath sample: a light subpath whose every vertex (the light's own included) is
 /// connected to the camera and splatted (unweighted: the only strategy).
 void lightpath_sample(const BidirContext& ctx, BdptScratch& scratch, SampledWavelengths& lambda,

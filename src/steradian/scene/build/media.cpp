@@ -317,7 +317,8 @@ void Builder::build_media() {
 }
 
 void Builder::use_volumetric_kernel(const std::string& what, const std::string& pbrt_path) {
-    if (m_s.integrator.type == "bdpt" || m_s.integrator.type == "lightpath") {
+    if (m_s.integrator.type == "bdpt" || m_s.integrator.type == "lightpath" ||
+        m_s.integrator.type == "mlt") {
         recorded([&] {
             throw_unsupported(m_d.integrator.loc,
                               "Integrator \"{}\": the scene has {}, which the bidirectional "

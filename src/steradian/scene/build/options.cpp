@@ -333,6 +333,38 @@ void Builder::build_integrator(const EntityDesc& e) {
         is.light_sampler = "power";
         m_s.integrator = is;
         return;
+    } else if (type == "mlt") {
+        // pbrt-v4's MLTIntegrator::Create (the power light sampler; --spp overrides
+        // "mutationsperpixel", as pbrt-v4's --spp does).
+        is.max_depth = ps.get_int("maxdepth", 5);
+        is.regularize = ps.get_bool("regularize", false);
+        auto& m = is.mlt;
+        m.bootstrap_samples = ps.get_int("bootstrapsamples", m.bootstrap_samples);
+        m.chains = ps.get_int("chains", m.chains);
+        m.mutations_per_pixel = ps.get_int("mutationsperpixel", m.mutations_per_pixel);
+        m.large_step_probability = ps.get_float("largestepprobability", m.large_step_probability);
+        m.sigma = ps.get_float("sigma", m.sigma);
+        auto at = [&](const char* name) {
+            const Param* p = ps.find(name);
+            return p ? p->loc : e.loc;
+        };
+        if (is.max_depth < 0) throw_error(at("maxdepth"), "maxdepth must be >= 0");
+        if (m.bootstrap_samples < 1)
+            throw_error(at("bootstrapsamples"), "\"bootstrapsamples\" must be >= 1");
+        if (m.chains < 1) throw_error(at("chains"), "\"chains\" must be >= 1");
+        if (m.mutations_per_pixel < 1 || m.mutations_per_pixel > kMaxSamplesPerPixel)
+            throw_error(at("mutationsperpixel"), "\"mutationsperpixel\" must be in 1..{}",
+                        kMaxSamplesPerPixel);
+        if (!(m.large_step_probability >= 0 && m.large_step_probability <= 1))
+            throw_error(at("largestepprobability"),
+                        "\"largestepprobability\" must be in [0, 1]");
+        if (!(m.sigma > 0) || !std::isfinite(m.sigma))
+            throw_error(at("sigma"), "\"sigma\" must be a positive finite number");
+        ps.check_unused("Integrator \"mlt\"");
+        is.type = type;
+        is.light_sampler = "power";
+        m_s.integrator = is;
+        return;
     } else if (type == "simplepath") {
         is.max_depth = ps.get_int("maxdepth", 5);
         bool lights = ps.get_bool("samplelights", true);

@@ -1,0 +1,297 @@
+#include "steradian/integrators/mlt/mlt.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "steradian/core/error.h"
+#include "steradian/film/film.h"
+#include "steradian/integrators/bdpt/bdpt.h"
+#include "steradian/integrators/distributed.h"
+#include "steradian/integrators/mlt/mlt_sampler.h"
+#include "steradian/integrators/progress.h"
+#include "steradian/sampling/distribution.h"
+#include "steradian/sampling/hash.h"
+#include "steradian/scene/scene.h"
+#include "steradian/spectrum/spectrum.h"
+
+namespace sr {
+
+namespace {
+
+/// pbrt-v4's stream indices of the MLT sampler.
+constexpr int kCameraStream = 0, kLightStream = 1, kConnectionStream = 2, kStreams = 3;
+
+/// A state of a chain as the film sees it: the strategy's contribution L at its wavelengths,
+/// where it lands on the film, and its luminance c (the function the chains sample).
+struct PathState {
+    Float c = 0;
+    Point2 p;
+    SampledWavelengths lambda;
+    SampledSpectrum L{0};
+};
+
+/// Per-thread scratch space and counts.
+struct MltThread {
+    BdptScratchPtr scratch = make_bdpt_scratch();
+    PathCounters counters;
+    uint64_t paths = 0, nonfinite = 0;
+};
+
+/// CIE Y of L at the sampled wavelengths (pbrt-v4's SampledSpectrum::y): MLT's c.
+double luminance(const SampledSpectrum& L, const SampledWavelengths& lambda) {
+    const DenselySampledSpectrum& y = cie_y();
+    double sum = 0;
+    for (int i = 0; i < kSpectrumSamples; ++i)
+        if (lambda.pdf[size_t(i)] != 0)
+            sum += double(y(lambda[i])) * double(L[i]) / double(lambda.pdf[size_t(i)]);
+    return sum / kSpectrumSamples / double(kCieYIntegral);
+}
+
+/// pbrt-v4's MLTIntegrator::L: the state of `sampler` as a path of `depth` scattering
+/// vertices.
+void evaluate(const Scene& scene, const Film& film, const BidirContext& ctx, MltSampler& sampler,
+              int depth, MltThread& th, PathState& out) {
+    MltStream cam(sampler, kCameraStream), light(sampler, kLightStream),
+        conn(sampler, kConnectionStream);
+    ++th.paths;
+    out.c = 0;
+    out.L = SampledSpectrum(0);
+    // The strategy: depth + 2 of them (s = 0 .. depth + 1), one at depth 0 ((1, 1) is none).
+    int s = 0, t = 2, n = 1;
+    if (depth > 0) {
+        n = depth + 2;
+        s = std::min(int(cam.get_1d() * Float(n)), n - 1);
+        t = n - s;
+    }
+    out.lambda = film.sample_wavelengths(cam.get_1d());
+    // The film position, uniform over the film's sample bounds, and the lens.
+    const Point2 u = cam.get_2d();
+    out.p = Point2(ctx.bounds[0] + u.x * (ctx.bounds[2] - ctx.bounds[0]),
+                   ctx.bounds[1] + u.y * (ctx.bounds[3] - ctx.bounds[1]));
+    const Point2 u_lens = cam.get_2d();
+    if (scene.light_sampler.empty()) return;
+    const Ray ray = scene.camera->generate_ray(
+        out.p, scene.camera->uses_lens_sample() ? u_lens : Point2(0.5f, 0.5f));
+    const SampledSpectrum L = bdpt_strategy(ctx, *th.scratch, s, t, ray, out.lambda, cam, light,
+                                            conn, th.counters, out.p) *
+                              Float(n);
+    const double c = luminance(L, out.lambda);
+    if (L.has_nonfinite() || !std::isfinite(float(c))) {
+        ++th.nonfinite;
+        return;
+    }
+    out.L = L;
+    out.c = std::max(Float(0), Float(c));
+}
+
+/// A chain: its sampler, its generator of acceptances, its depth and its state.
+struct Chain {
+    MltSampler sampler;
+    Pcg32 rng;
+    int depth = 0;
+    PathState current, proposed;
+};
+
+/// How many of the mutations [a, b) go to chain i of n: those j with j mod n == i.
+int64_t chain_share(int64_t i, int64_t n, int64_t a, int64_t b) {
+    auto upto = [&](int64_t x) { return x > i ? (x - i - 1) / n + 1 : 0; };
+    return upto(b) - upto(a);
+}
+
+struct Splat {
+    Point2 p;
+    std::array<double, 3> xyz;
+};
+
+}  // namespace
+
+RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt) {
+    using Clock = std::chrono::steady_clock;
+    check_bidir_scene(scene, "mlt");
+    if (opt.checkpoint || opt.resume)
+        throw Error("Integrator \"mlt\": checkpoints are not supported yet");
+    if (film.has_aux())
+        throw Error("Integrator \"mlt\": only the \"rgb\" film is supported yet");
+    if (opt.distribute && opt.distribute->workers() > 0)
+        throw Error("Integrator \"mlt\" does not run on several processes yet: render it with "
+                    "one process (steradian, or steradian-mpi without mpirun)");
+    const IntegratorSettings::Mlt& mp = scene.integrator.mlt;
+    const int max_depth = scene.integrator.max_depth;
+    const int mpp = opt.spp > 0 ? opt.spp : mp.mutations_per_pixel;
+    const uint64_t seed = scene.sampler.seed + opt.seed;
+    const FilmParams& fp = film.params();
+
+    BidirContext ctx(scene);
+    // Primary sample space holds film positions uniform over the sample bounds; a light
+    // subpath connected to the camera (t = 1) lands anywhere on them, and is one sample of
+    // the full film's light tracing (importance is normalised to the full film), so it is
+    // scaled by the full film's pixels over the bounds' area.
+    const double area =
+        double(ctx.bounds[2] - ctx.bounds[0]) * double(ctx.bounds[3] - ctx.bounds[1]);
+    ctx.crop_factor = Float(double(fp.resolution.x) * double(fp.resolution.y) / area);
+
+    const int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    tbb::task_arena arena(threads);
+    tbb::enumerable_thread_specific<MltThread> states;
+
+    const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+
+    // Mutations: pbrt-v4's (integer) area of the sample bounds per mutation per pixel, in
+    // rounds of one mutation per pixel; mutation j goes to chain j mod n (so that every chain
+    // takes part when a round has fewer mutations than there are chains).
+    const int64_t per_round = std::max<int64_t>(1, int64_t(area));
+    const int64_t n_chains = mp.chains;
+    const int64_t n_boot = int64_t(mp.bootstrap_samples) * (max_depth + 1);
+    Progress progress(opt.progress, uint64_t(n_boot) + uint64_t(per_round) * uint64_t(mpp));
+
+    // 1. Bootstrap: independent states, each the first state of the sampler of its index.
+    std::vector<Float> weights(size_t(n_boot), 0);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int64_t>(0, n_boot, 256),
+                          [&](const tbb::blocked_range<int64_t>& r) {
+                              MltThread& th = states.local();
+                              PathState st;
+                              for (int64_t i = r.begin(); i < r.end(); ++i) {
+                                  MltSampler smp(mp.sigma, mp.large_step_probability, kStreams,
+                                                 uint64_t(i), seed);
+                                  evaluate(scene, film, ctx, smp, int(i % (max_depth + 1)), th,
+                                           st);
+                                  weights[size_t(i)] = st.c;
+                              }
+                              progress.add(uint64_t(r.size()));
+                          });
+    });
+    double sum = 0;
+    for (Float w : weights) sum += double(w);
+    if (!(sum > 0) || !std::isfinite(sum))
+        throw Error(fmt::format("Integrator \"mlt\": none of the {} bootstrap paths carries "
+                                "light (is the image black? if not, raise \"bootstrapsamples\")",
+                                n_boot));
+    // b: the integral of c over primary sample space, summed over the depths.
+    const double b = sum / double(mp.bootstrap_samples);
+    const AliasTable table(weights);
+
+    // 2. The chains, each from a bootstrap state drawn in proportion to its c.
+    std::vector<Chain> chains;
+    chains.reserve(size_t(n_chains));
+    for (int64_t i = 0; i < n_chains; ++i)
+        chains.push_back(Chain{MltSampler(mp.sigma, mp.large_step_probability, kStreams, 0, 0),
+                               Pcg32(uint64_t(i), mix_bits(seed ^ 0x636861696eULL)), 0, {}, {}});
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int64_t>(0, n_chains, 16),
+                          [&](const tbb::blocked_range<int64_t>& r) {
+                              MltThread& th = states.local();
+                              for (int64_t i = r.begin(); i < r.end(); ++i) {
+                                  Chain& ch = chains[size_t(i)];
+                                  const int index = table.sample(ch.rng.next_float());
+                                  ch.depth = index % (max_depth + 1);
+                                  ch.sampler = MltSampler(mp.sigma, mp.large_step_probability,
+                                                          kStreams, uint64_t(index), seed);
+                                  evaluate(scene, film, ctx, ch.sampler, ch.depth, th, ch.current);
+                                  ch.sampler.reseed(uint64_t(n_boot + i), seed);
+                              }
+                          });
+    });
+
+    // 3. Rounds of mutations; each round's splats added chain by chain.
+    std::vector<double> sums = film.splat_buffer();
+    const size_t chunk = size_t(std::max(64, 8 * threads));
+    const int n_bands = std::min(fp.height(), 4 * threads);
+    std::vector<std::vector<Splat>> splats(chunk);
+    std::vector<uint64_t> splat_nonfinite(chunk, 0);
+    const Filter& filter = *scene.filter;
+    int done = 0;
+    RenderStats stats;
+    for (int64_t round = 0; round < mpp; ++round) {
+        if (round > 0 && opt.stop && opt.stop->load()) {
+            stats.interrupted = true;
+            break;
+        }
+        if (round > 0 && opt.time_budget > 0 && elapsed() > opt.time_budget) {
+            stats.time_limited = true;
+            break;
+        }
+        for (int64_t c0 = 0; c0 < n_chains; c0 += int64_t(chunk)) {
+            const int64_t c1 = std::min(n_chains, c0 + int64_t(chunk));
+            arena.execute([&] {
+                tbb::parallel_for(
+                    tbb::blocked_range<int64_t>(c0, c1, 1),
+                    [&](const tbb::blocked_range<int64_t>& r) {
+                        MltThread& th = states.local();
+                        for (int64_t i = r.begin(); i < r.end(); ++i) {
+                            Chain& ch = chains[size_t(i)];
+                            std::vector<Splat>& out = splats[size_t(i - c0)];
+                            uint64_t& bad = splat_nonfinite[size_t(i - c0)];
+                            out.clear();
+                            bad = 0;
+                            const int64_t n = chain_share(i, n_chains, round * per_round,
+                                                          (round + 1) * per_round);
+                            auto eval = [&](PathState& st) {
+                                evaluate(scene, film, ctx, ch.sampler, ch.depth, th, st);
+                            };
+                            auto splat = [&](const PathState& st, Float w) {
+                                const std::array<double, 3> xyz =
+                                    film.to_sensor(st.L * w, st.lambda);
+                                if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) ||
+                                    !std::isfinite(xyz[2])) {
+                                    ++bad;
+                                    return;
+                                }
+                                if (xyz[0] == 0 && xyz[1] == 0 && xyz[2] == 0) return;
+                                out.push_back({st.p, xyz});
+                            };
+                            for (int64_t j = 0; j < n; ++j)
+                                metropolis_step(ch.sampler, ch.rng, ch.current, ch.proposed, eval,
+                                                splat);
+                            progress.add(uint64_t(n));
+                        }
+                    },
+                    tbb::simple_partitioner());
+            });
+            // The chunk's splats, chain by chain: each pixel receives its additions in chain
+            // order, whichever thread adds into its band of rows.
+            for (int64_t i = c0; i < c1; ++i)
+                states.local().nonfinite += splat_nonfinite[size_t(i - c0)];
+            arena.execute([&] {
+                tbb::parallel_for(0, n_bands, [&](int band) {
+                    const int r0 = fp.y0 + int(int64_t(band) * fp.height() / n_bands);
+                    const int r1 = fp.y0 + int(int64_t(band + 1) * fp.height() / n_bands);
+                    for (int64_t i = c0; i < c1; ++i)
+                        for (const Splat& sp : splats[size_t(i - c0)])
+                            film.add_splat(sums, sp.p, sp.xyz, filter, r0, r1);
+                });
+            });
+        }
+        done = int(round) + 1;
+    }
+    progress.finish();
+
+    film.set_splat_sums(std::move(sums));
+    // Each mutation carries b / (mutations) of the integral over the sample bounds' area.
+    film.set_splat_scale(b * area / (double(per_round) * double(done)) / filter.integral());
+    stats.wall_seconds = elapsed();
+    stats.cpu_seconds = process_cpu_seconds() - cpu0;
+    stats.spp = done;
+    for (const MltThread& th : states) {
+        stats.camera_paths += th.paths;
+        stats.rays += th.counters.rays;
+        stats.nonfinite += th.nonfinite;
+    }
+    stats.peak_rss_bytes = peak_rss_bytes();
+    return stats;
+}
+
+}  // namespace sr
