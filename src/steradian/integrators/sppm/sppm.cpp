@@ -141,15 +141,19 @@ private:
     std::vector<uint32_t> m_start, m_items;
 };
 
-/// The base-3 radical inverse of i (the van der Corput sequence in base 3): the wavelength
-/// sample of iteration i, as pbrt-v4 takes it, so the iterations' wavelengths are stratified.
-Float radical_inverse_3(uint64_t i) {
+/// The wavelength sample of iteration i: the base-3 radical inverse of i (the van der Corput
+/// sequence in base 3), as pbrt-v4 takes it, so the iterations' wavelengths are stratified;
+/// rotated (Cranley-Patterson) by an offset hashed from the seed, so that renders with other
+/// seeds are independent estimates (pbrt-v4 does not rotate it).
+Float pass_wavelength_sample(uint64_t i, uint64_t seed) {
     double inv = 1.0 / 3, f = inv, r = 0;
     while (i > 0) {
         r += double(i % 3) * f;
         i /= 3;
         f *= inv;
     }
+    r += double(mix_bits(seed ^ 0x5350504d5f4c414dULL) >> 11) * 0x1.0p-53;
+    r -= std::floor(r);
     return Float(std::min(r, 1 - 1e-7));
 }
 
@@ -259,7 +263,7 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
         const double iter_t0 = elapsed();
         const int iter = done;
         const SampledWavelengths pass_lambda =
-            film.sample_wavelengths(radical_inverse_3(uint64_t(iter)));
+            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed));
 
         // ---- camera pass: each pixel's path to its visible point --------------------------
         arena.execute([&] {
