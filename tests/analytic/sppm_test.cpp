@@ -266,6 +266,9 @@ TEST(Sppm, AgreesWithThePathTracerOnTheCornellBox) {
         const double se = std::sqrt(sqr(p.se[b]) + sqr(s.se[b]));
         const double bias = 0.12 * p.mean[b];
         EXPECT_NEAR(s.mean[b], p.mean[b], 5 * se + bias) << "block " << b;
+        if (std::getenv("SPPM_DEBUG"))
+            std::fprintf(stderr, "block %zu: sppm %g +- %g, path %g +- %g (ratio %.4f)\n", b,
+                         s.mean[b], s.se[b], p.mean[b], p.se[b], s.mean[b] / p.mean[b]);
         ms += sqr((s.mean[b] - p.mean[b]) / (se + bias / 3)) / double(p.mean.size());
         indirect += p.mean[b] - d1[b];
         total += p.mean[b];
