@@ -28,9 +28,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Photons a chunk traces: the unit of the photon pass's parallel work and of its ordered
-/// reduction.
+/// Photons a chunk traces at most: the unit of the photon pass's parallel work and of its
+/// ordered reduction. (Where the photons meet many visible points each, a chunk takes fewer,
+/// so that its deposits stay within kChunkDeposits; the image does not depend on it.)
 constexpr int kPhotonChunk = 1024;
+/// The most deposits a chunk can make (16 bytes each).
+constexpr uint64_t kChunkDeposits = uint64_t(1) << 20;
 
 /// One pixel's state (pbrt-v4's SPPMPixel), its sums in sensor values.
 struct Pixel {
@@ -104,6 +107,13 @@ public:
         for (size_t i = 0; i < pixels.size(); ++i)
             if (pixels[i].vp.set)
                 each_bucket(pixels[i], [&](uint32_t b) { m_items[count[b]++] = uint32_t(i); });
+    }
+
+    /// The longest list of one bucket: the most visible points a photon can meet at once.
+    size_t max_list() const {
+        size_t m = 0;
+        for (size_t b = 0; b < m_size; ++b) m = std::max<size_t>(m, m_start[b + 1] - m_start[b]);
+        return m;
     }
 
     /// The pixels listed in the cell of p (empty outside the grid).
@@ -253,10 +263,9 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
     Progress progress(opt.progress, uint64_t(iterations) * (uint64_t(n_pixels) + uint64_t(photons)));
     uint64_t nonfinite_photons = 0;
-    const size_t n_chunks = size_t((photons + kPhotonChunk - 1) / kPhotonChunk);
     const size_t slab = size_t(std::max(4, 4 * threads));
-    std::vector<std::vector<Deposit>> deposits(std::min(slab, n_chunks));
-    std::vector<uint64_t> chunk_nonfinite(deposits.size());
+    std::vector<std::vector<Deposit>> deposits(slab);
+    std::vector<uint64_t> chunk_nonfinite(slab);
 
     int done = 0;
     while (done < iterations) {
@@ -307,13 +316,20 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
 
         // ---- the visible points' grid --------------------------------------------------------
         grid.build(pixels);
+        // A photon deposits at most max_list() times at each of at most max_depth surfaces:
+        // chunks of that many photons keep their deposit lists within kChunkDeposits.
+        const uint64_t per_photon =
+            uint64_t(std::max(1, max_depth)) * uint64_t(std::max<size_t>(1, grid.max_list()));
+        const int64_t chunk_photons = int64_t(
+            std::clamp<uint64_t>(kChunkDeposits / per_photon, 1, uint64_t(kPhotonChunk)));
+        const size_t n_chunks = size_t((photons + chunk_photons - 1) / chunk_photons);
 
         // ---- photon pass ---------------------------------------------------------------------
         auto trace_chunk = [&](size_t chunk, std::vector<Deposit>& out, uint64_t& nonfinite) {
             PhotonThread& pt = photon_threads.local();
             Sampler& sampler = *pt.sampler;
-            const int64_t i0 = int64_t(chunk) * kPhotonChunk;
-            const int64_t i1 = std::min<int64_t>(photons, i0 + kPhotonChunk);
+            const int64_t i0 = int64_t(chunk) * chunk_photons;
+            const int64_t i1 = std::min<int64_t>(photons, i0 + chunk_photons);
             for (int64_t i = i0; i < i1; ++i) {
                 sampler.start_pixel_sample(Vec2i(iter, -1), int(i));
                 const Float ul = sampler.get_pixel_1d();
@@ -404,8 +420,9 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                             deposits[c - c0].clear();
                             chunk_nonfinite[c - c0] = 0;
                             trace_chunk(c, deposits[c - c0], chunk_nonfinite[c - c0]);
-                            const int64_t i0 = int64_t(c) * kPhotonChunk;
-                            progress.add(uint64_t(std::min<int64_t>(photons, i0 + kPhotonChunk) - i0));
+                            const int64_t i0 = int64_t(c) * chunk_photons;
+                            progress.add(
+                                uint64_t(std::min<int64_t>(photons, i0 + chunk_photons) - i0));
                         }
                     },
                     tbb::simple_partitioner());

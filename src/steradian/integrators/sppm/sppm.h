@@ -14,10 +14,11 @@
 /// Ld / iterations + tau / (photons traced * pi r^2).
 ///
 /// Determinism: each pixel's camera path is a pure function of (pixel, iteration, seed);
-/// photon i of iteration k a pure function of (k, i, seed). The photons are traced in fixed
-/// chunks of photon indices, in parallel; each chunk records its deposits (pixel, sensor
+/// photon i of iteration k a pure function of (k, i, seed). The photons are traced in chunks
+/// of consecutive photon indices, in parallel; each chunk records its deposits (pixel, sensor
 /// values) in photon order, and the chunks' records are added in chunk order, so every
-/// pixel's flux is the same sum in the same order on any number of threads.
+/// pixel's flux is the same sum in photon order on any number of threads (and whatever the
+/// chunks' size, which shrinks where photons meet many visible points, to bound the lists).
 namespace sr {
 
 class Scene;
