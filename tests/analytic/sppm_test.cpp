@@ -197,7 +197,7 @@ TEST(Sppm, SpecularDiffuseSpecularMatchesTheClosedForm) {
         if (want[b] <= 0) continue;
         const double tol = 5 * got.se[b] + 2e-3 * want[b];
         EXPECT_NEAR(got.mean[b], want[b], tol) << "block " << b;
-        // And precise enough for that to mean something: 2% or better.
+        // And precise enough for that to mean something: a standard error below 0.4 %.
         EXPECT_LT(got.se[b], 0.004 * want[b]) << "block " << b;
         ms += sqr((got.mean[b] - want[b]) / got.se[b]) / double(n_inside);
         if (std::getenv("SPPM_DEBUG"))
