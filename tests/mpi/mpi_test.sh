@@ -230,5 +230,15 @@ run 3 render "$tmp/missing.pbrt" --quiet > "$tmp/missing.txt" 2>&1
 check "a missing scene fails the job" test $? -ne 0
 check "... reported once" test "$(grep -c '^error' "$tmp/missing.txt")" -eq 1
 
+# Integrator "sppm" does not run distributed: every process refuses it before the session
+# starts, process 0 says why, and no image is written (docs/sppm.md).
+sed 's/^WorldBegin/Integrator "sppm" "float radius" [ 0.1 ]\nWorldBegin/' "$tmp/scene.pbrt" > "$tmp/sppm.pbrt"
+run 2 render "$tmp/sppm.pbrt" --spp 1 -o "$tmp/sppm.pfm" > "$tmp/sppm.txt" 2>&1
+check "sppm is refused distributed" test $? -ne 0
+check "... saying why, once" test "$(grep -c 'sppm.*does not run distributed' "$tmp/sppm.txt")" -eq 1
+check "... and writes no image" test ! -e "$tmp/sppm.pfm"
+run 1 render "$tmp/sppm.pbrt" --spp 1 --quiet -o "$tmp/sppm1.pfm"
+check "sppm renders in one process" test -s "$tmp/sppm1.pfm"
+
 echo "mpi: $pass passed, $fail failed"
 test "$fail" -eq 0

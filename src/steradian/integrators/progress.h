@@ -1,5 +1,6 @@
 #pragma once
-/// The progress bar of renders (render.cpp and the integrators it hands a render to).
+/// The progress bar of renders (render.cpp, mlt/, sppm/): percent, elapsed, ETA on stderr.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>

@@ -27,6 +27,7 @@
 #include "steradian/integrators/path/path.h"
 #include "steradian/integrators/progress.h"
 #include "steradian/integrators/radiosity/radiosity.h"
+#include "steradian/integrators/sppm/sppm.h"
 #include "steradian/scene/scene.h"
 
 namespace sr {
@@ -405,6 +406,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     const std::string& itype = scene.integrator.type;
     if (itype == "mlt") return render_mlt(scene, film, opt);
     const bool bidir = itype == "bdpt" || itype == "lightpath";
+    if (itype == "sppm") return render_sppm(scene, film, opt);
     if (itype != "path" && itype != "radiosity" && !bidir)
         throw Error(fmt::format("integrator \"{}\" is not supported yet", itype));
     std::unique_ptr<RadiositySolution> own_radiosity;

@@ -50,9 +50,19 @@ struct RadiosityParams {
     int max_depth = 5;           ///< gather bounces through non-diffuse surfaces
 };
 
+/// pbrt-v4's "sppm" (SPPMIntegrator::Create): photons traced per iteration (<= 0: one per
+/// pixel of the crop window), the initial search radius (world units), and the seed of the
+/// photons' sample sequence (pbrt-v4's default is its --seed, ours 0 plus --seed).
+struct SppmParams {
+    int photons_per_iteration = -1;
+    Float radius = 1;
+    int seed = 0;
+};
+
 struct IntegratorSettings {
     std::string type = "path";
     RadiosityParams radiosity;
+    SppmParams sppm;
     int max_depth = 5;
     LightStrategy strategy = LightStrategy::Mis;
     bool regularize = false;

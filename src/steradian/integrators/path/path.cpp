@@ -1,4 +1,5 @@
 #include "steradian/integrators/path/path.h"
+#include "steradian/integrators/path/visible_point.h"
 
 #include <climits>
 
@@ -51,6 +52,8 @@ public:
     }
     /// Records the first surface that scatters in `v` (path_li_from).
     void record_visible(VisibleSurface* v) { m_visible = v; }
+    /// Ends the path at SPPM's visible point, recorded in `vp` (path_li_visible_point).
+    void stop_at_visible_point(VisiblePoint* vp) { m_vp = vp; }
 
     /// Follows `ray` until the path ends.
     void trace(Ray ray) {
@@ -91,6 +94,8 @@ public:
                 // in case a degenerate surface keeps returning the same hit).
                 if (++m_interface_crossings > 256) return;
                 ray = spawn_ray(hit, ray.d);
+            } else if (m_vp && m_vp->set) {
+                return;  // SPPM: the emission the visible point's BSDF sample found is in
             } else if (!scatter(hit, *bsdf, ray)) {
                 return;
             }
@@ -108,6 +113,20 @@ public:
         m_prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
         if (m_use_nee && bsdf.has_non_specular() && !m_scene.light_sampler.empty())
             sample_light(hit, bsdf, m_prev_ctx);
+        // SPPM's visible point: the first diffuse vertex, or a glossy one at the last depth
+        // (pbrt-v4's SPPM camera pass); the path goes on for the emission its BSDF sample
+        // finds, and ends at the next surface.
+        if (m_vp && !m_vp->set) {
+            const uint8_t fl = bsdf.flags();
+            if ((fl & kLobeDiffuse) || ((fl & kLobeGlossy) && m_depth == m_max_depth)) {
+                m_vp->set = true;
+                m_vp->p = hit.p;
+                m_vp->wo = hit.wo;
+                m_vp->beta = m_beta;
+                m_vp->bsdf = bsdf;
+                m_vp->secondary_terminated = m_lambda.secondary_terminated();
+            }
+        }
 
         // The lobe-choice dimension is consumed either way; a single-lobe BSDF skips
         // computing it (the same dimensions, and so the same image, for less work).
@@ -270,6 +289,7 @@ private:
     Float m_footprint_scale = 0;
     bool m_first_footprint = false;  ///< the current hit is the camera ray's, footprint set
     VisibleSurface* m_visible = nullptr;
+    VisiblePoint* m_vp = nullptr;
 };
 
 }  // namespace
@@ -304,6 +324,17 @@ SampledSpectrum path_li_from(const Scene& scene, const Ray& ray, bool found, Sur
     path.record_visible(visible);
     ++counters.rays;
     path.trace(ray, found, hit);
+    return path.L;
+}
+
+SampledSpectrum path_li_visible_point(const Scene& scene, const Ray& ray,
+                                      SampledWavelengths& lambda, Sampler& sampler,
+                                      PathCounters& counters, VisiblePoint& vp) {
+    vp.set = false;
+    vp.bsdf.reset();
+    PathState path(scene, lambda, sampler, counters, PathLimits{});
+    path.stop_at_visible_point(&vp);
+    path.trace(ray);
     return path.L;
 }
 

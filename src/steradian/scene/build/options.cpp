@@ -365,6 +365,31 @@ void Builder::build_integrator(const EntityDesc& e) {
         is.light_sampler = "power";
         m_s.integrator = is;
         return;
+    } else if (type == "sppm") {
+        // pbrt-v4's SPPMIntegrator::Create: its iterations are the Sampler's pixel samples;
+        // direct light with the "bvh" light sampler, photons from the "power" one.
+        for (const char* old : {"iterations", "numiterations"})
+            if (const Param* p = ps.find(old))
+                throw_error(p->loc, "Integrator \"sppm\": \"{}\" is pbrt-v3's; in pbrt-v4 the "
+                                    "iterations are the Sampler's \"pixelsamples\"",
+                            old);
+        is.max_depth = ps.get_int("maxdepth", 5);
+        SppmParams& sp = is.sppm;
+        sp.photons_per_iteration = ps.get_int("photonsperiteration", -1);
+        sp.radius = ps.get_float("radius", 1);
+        sp.seed = ps.get_int("seed", 0);
+        if (is.max_depth < 0) throw_error(e.loc, "maxdepth must be >= 0");
+        if (!(sp.radius > 0) || !std::isfinite(sp.radius) || sp.radius > 1e17f) {
+            const Param* p = ps.find("radius");
+            throw_error(p ? p->loc : e.loc,
+                        "Integrator \"sppm\": \"radius\" must be a finite number > 0 (the "
+                        "initial search radius, in world units)");
+        }
+        ps.check_unused(fmt::format("Integrator \"{}\"", type));
+        is.type = type;
+        is.light_sampler = "bvh";
+        m_s.integrator = is;
+        return;
     } else if (type == "simplepath") {
         is.max_depth = ps.get_int("maxdepth", 5);
         bool lights = ps.get_bool("samplelights", true);

@@ -1,0 +1,309 @@
+// Integrator "sppm" (stochastic progressive photon mapping) against closed forms and the
+// path tracer. Standard errors come from independent renders (fixed seeds), so the tests are
+// deterministic; the photon estimate's bias (it averages the photons' flux over a disk of
+// the search radius) is bounded separately and added to the tolerance.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "steradian/bsdf/fresnel.h"
+#include "steradian/camera/camera.h"
+#include "steradian/core/error.h"
+#include "support/render_util.h"
+
+namespace sr::test {
+namespace {
+
+std::string read_text(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+void replace_once(std::string& s, const std::string& from, const std::string& to) {
+    const size_t i = s.find(from);
+    ASSERT_NE(i, std::string::npos) << from;
+    s.replace(i, from.size(), to);
+}
+
+struct Img {
+    std::vector<double> y;
+    Image rgb;
+    RenderStats stats;
+};
+
+Img render_text(const std::string& text, int spp, uint64_t seed, int threads = 2,
+                const std::string& base = std::string(STERADIAN_SOURCE_DIR) + "/scenes") {
+    SceneDesc d = parse_pbrt_string(text, "<test>", base);
+    BuildOptions bo;
+    bo.spp_override = spp;
+    Scene s = build_scene(d, bo);
+    Film film(s.film);
+    RenderOptions ro;
+    ro.threads = threads;
+    ro.spp = spp;
+    ro.seed = seed;
+    Img r;
+    r.stats = render(s, film, ro);
+    r.y = film.luminance();
+    r.rgb = film.rgb_image();
+    return r;
+}
+
+std::vector<double> block_means(const std::vector<double>& y, int res, int b) {
+    const int n = res / b;
+    std::vector<double> m(size_t(n * n), 0);
+    for (int yy = 0; yy < res; ++yy)
+        for (int x = 0; x < res; ++x) m[size_t((yy / b) * n + x / b)] += y[size_t(yy * res + x)];
+    for (double& v : m) v /= double(b * b);
+    return m;
+}
+
+struct BlockStats {
+    std::vector<double> mean, se;
+};
+BlockStats stats_of(const std::vector<std::vector<double>>& reps) {
+    const size_t n = reps[0].size(), r = reps.size();
+    BlockStats s;
+    s.mean.assign(n, 0);
+    s.se.assign(n, 0);
+    for (const auto& v : reps)
+        for (size_t i = 0; i < n; ++i) s.mean[i] += v[i] / double(r);
+    for (const auto& v : reps)
+        for (size_t i = 0; i < n; ++i) s.se[i] += sqr(v[i] - s.mean[i]);
+    for (size_t i = 0; i < n; ++i) s.se[i] = std::sqrt(s.se[i] / double(r - 1) / double(r));
+    return s;
+}
+
+// ---- the specular-diffuse-specular scene ---------------------------------------------------
+
+// scenes/sds-mirrors.pbrt: a spot light of I = 1000 cd (inner cone 18 degrees) at (-0.5, 0, 3)
+// aimed at the mirror M1 (plane x = -1.5), whose reflection lights a Lambertian floor (z = 0,
+// reflectance 0.5) as from the light's mirror image P' = (-2.5, 0, 3); the camera sees the
+// floor through the mirror M2 (plane y = 2.5). Both mirrors are conductors of eta = 0.2, k = 5
+// at every wavelength. Vertical mirrors keep the sign of a ray's z, so light leaving the
+// floor upwards never comes back to it: the luminance the camera sees along a ray that
+// reflects off M2 at incidence cosine c2 and meets the floor at x is
+//   Y = R(c2) (rho / pi) R(c1) I cos(theta) / d^2,
+// d = |x - P'|, cos(theta) = 3 / d, c1 the incidence cosine of (x - P') on M1, R the
+// conductor's Fresnel reflectance. The expected value of a pixel (box filter) is Y averaged
+// over its area; we take the camera's own rays through 8 x 8 points of each pixel and
+// intersect the two planes analytically.
+constexpr double kPiD = 3.14159265358979323846;
+constexpr double kI = 1000, kRho = 0.5, kEta = 0.2, kK = 5;
+constexpr int kSdsRes = 64, kSdsBlock = 8;
+
+/// The closed-form luminance along the camera ray through film point p, or -1 if the ray
+/// does not reach the floor's lit interior through M2 (by at least `margin` from its edges
+/// and inside the spot's inner cone).
+double sds_expected(const Camera& cam, Point2 p, double margin) {
+    const Ray r = cam.generate_ray(p, Point2(0.5f, 0.5f));
+    const double o[3] = {r.o.x, r.o.y, r.o.z};
+    double d[3] = {r.d.x, r.d.y, r.d.z};
+    const double dl = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (double& v : d) v /= dl;
+    if (!(d[1] > 0)) return -1;
+    const double t = (2.5 - o[1]) / d[1];
+    const double m[3] = {o[0] + t * d[0], 2.5, o[2] + t * d[2]};
+    if (m[2] < 0 || m[2] > 5 || std::abs(m[0]) > 3) return -1;
+    const double c2 = d[1];
+    d[1] = -d[1];  // reflected off y = 2.5
+    if (!(d[2] < 0)) return -1;
+    const double s = -m[2] / d[2];
+    const double x = m[0] + s * d[0], y = m[1] + s * d[1];
+    if (x < -1.4 + margin || x > 2.5 - margin || y < -2 + margin || y > 2 - margin) return -1;
+    // From the light's image to the floor point.
+    const double v[3] = {x + 2.5, y, -3.0};
+    const double dist = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const double cos_theta = 3 / dist, c1 = v[0] / dist;
+    // Inside the inner cone: the angle between the reflected axis (1, 0, -1)/sqrt(2) and v.
+    const double cos_axis = (v[0] - v[2]) / (std::sqrt(2.0) * dist);
+    if (cos_axis < std::cos(18 * kPiD / 180)) return -1;
+    // Where the real ray meets M1 (x = -1.5): inside the mirror.
+    const double u = 1 / v[0];  // from P', the fraction of v to reach x = -1.5
+    const double zm = 3 + u * v[2], ym = u * v[1];
+    if (zm < 0.3 || zm > 4 || std::abs(ym) > 2) return -1;
+    const double r1 = fr_complex(Float(c1), Float(kEta), Float(kK));
+    const double r2 = fr_complex(Float(c2), Float(kEta), Float(kK));
+    return r2 * kRho / kPiD * r1 * kI * cos_theta / (dist * dist);
+}
+
+/// The expected block means (8 x 8 points per pixel), -1 for blocks not wholly inside.
+std::vector<double> sds_expected_blocks(const Scene& scene, double margin) {
+    const int nb = kSdsRes / kSdsBlock;
+    std::vector<double> e(size_t(nb * nb), 0);
+    for (int by = 0; by < nb; ++by)
+        for (int bx = 0; bx < nb; ++bx) {
+            double sum = 0;
+            bool inside = true;
+            for (int py = by * kSdsBlock; py < (by + 1) * kSdsBlock && inside; ++py)
+                for (int px = bx * kSdsBlock; px < (bx + 1) * kSdsBlock && inside; ++px)
+                    for (int j = 0; j < 8 && inside; ++j)
+                        for (int i = 0; i < 8; ++i) {
+                            const double v = sds_expected(
+                                *scene.camera,
+                                Point2(Float(px + (i + 0.5) / 8), Float(py + (j + 0.5) / 8)),
+                                margin);
+                            if (v < 0) {
+                                inside = false;
+                                break;
+                            }
+                            sum += v;
+                        }
+            e[size_t(by * nb + bx)] = inside ? sum / (kSdsBlock * kSdsBlock * 64) : -1;
+        }
+    return e;
+}
+
+std::string sds_scene(const std::string& integrator) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) + "/scenes/sds-mirrors.pbrt");
+    const size_t i = s.find("Integrator \"sppm\"");
+    const size_t e = s.find("WorldBegin");
+    EXPECT_NE(i, std::string::npos);
+    return s.substr(0, i) + integrator + "\n" + s.substr(e);
+}
+
+// SPPM converges to the closed form where path tracing and bdpt see nothing.
+//
+// Bias bound: each photon estimate is the flux of the photons within the pixel's radius r of
+// its visible point; for a smooth irradiance E its expectation is E averaged over the disk,
+// E + r^2/8 lap(E) + O(r^4). Radii only shrink (r <= r0 = 0.05), so the relative bias of
+// every iteration's estimate is at most r0^2/8 max|lap E| / E. For E = I h / d^3 (d^2 =
+// rho^2 + h^2, rho the distance from the foot of the image source) lap E / E = -6/d^2 +
+// 15 rho^2/d^4, at most 9/d^2 <= 1 on this floor (d >= 3), which bounds the relative bias by
+// 3.2e-4 (R(c1) varies far more slowly). We allow 2e-3 of the
+// expected value besides 5 standard errors (the disk also crosses no edge: the blocks keep
+// 2 r0 from the floor's edges and the cone's).
+TEST(Sppm, SpecularDiffuseSpecularMatchesTheClosedForm) {
+    const std::string sppm = sds_scene(
+        "Integrator \"sppm\" \"integer maxdepth\" [ 5 ] \"float radius\" [ 0.05 ] "
+        "\"integer photonsperiteration\" [ 65536 ]");
+    SceneDesc d = parse_pbrt_string(sppm, "<test>", std::string(STERADIAN_SOURCE_DIR) + "/scenes");
+    const Scene scene = build_scene(d, {});
+    const std::vector<double> want = sds_expected_blocks(scene, 0.1);
+    size_t n_inside = 0;
+    for (double v : want) n_inside += v > 0;
+    ASSERT_GE(n_inside, 12u) << "the test's blocks do not see the lit floor";
+
+    constexpr int kReps = 6;
+    std::vector<std::vector<double>> reps;
+    for (int r = 0; r < kReps; ++r)
+        reps.push_back(block_means(render_text(sppm, 16, 10 + uint64_t(r)).y, kSdsRes, kSdsBlock));
+    const BlockStats got = stats_of(reps);
+    double ms = 0;
+    for (size_t b = 0; b < want.size(); ++b) {
+        if (want[b] <= 0) continue;
+        const double tol = 5 * got.se[b] + 2e-3 * want[b];
+        EXPECT_NEAR(got.mean[b], want[b], tol) << "block " << b;
+        // And precise enough for that to mean something: a standard error below 0.4 %.
+        EXPECT_LT(got.se[b], 0.004 * want[b]) << "block " << b;
+        ms += sqr((got.mean[b] - want[b]) / got.se[b]) / double(n_inside);
+        if (std::getenv("SPPM_DEBUG"))
+            std::fprintf(stderr, "block %zu: %g +- %g, closed form %g (ratio %.5f)\n", b,
+                         got.mean[b], got.se[b], want[b], got.mean[b] / want[b]);
+    }
+    // z is about Student's t with 5 degrees of freedom: mean square 5/3.
+    EXPECT_LT(ms, 3.0);
+
+    // bdpt and the path tracer: nothing there (no strategy can connect two vertices of the
+    // path light - M1 - floor - M2 - pinhole).
+    for (const char* integ : {"Integrator \"bdpt\" \"integer maxdepth\" [ 5 ]",
+                              "Integrator \"path\" \"integer maxdepth\" [ 5 ]"}) {
+        const std::vector<double> other =
+            block_means(render_text(sds_scene(integ), 16, 3).y, kSdsRes, kSdsBlock);
+        for (size_t b = 0; b < want.size(); ++b)
+            if (want[b] > 0) {
+                EXPECT_LT(other[b], 1e-3 * want[b]) << integ << " block " << b;
+            }
+    }
+}
+
+// ---- the Cornell box -------------------------------------------------------------------------
+
+std::string cornell(const std::string& integrator, int res) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) + "/scenes/cornell-box.pbrt");
+    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
+                 "\"integer xresolution\" [ " + std::to_string(res) +
+                     " ] \"integer yresolution\" [ " + std::to_string(res) + " ]");
+    replace_once(s, "Integrator \"path\" \"integer maxdepth\" [ 16 ]", integrator);
+    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
+    return s;
+}
+
+// SPPM and the path tracer agree on the Cornell box's 8 x 8-pixel block means (64 blocks, the
+// light seen directly included) within their standard errors and SPPM's bias bound.
+//
+// Bias bound: a photon within r of a visible point but on another surface (a wall meeting the
+// floor, a box's side) or where the irradiance changes across the disk moves the estimate; it
+// concerns the visible points within r of such an edge, at most half of whose disk is
+// wrong, so at most the fraction 2 r / w of a block of width w on the surface is affected per
+// edge crossing it, by at most its own value. With r0 = 2 (the box is 556 wide; a block is
+// 8 pixels of about 8.7 at the back wall, w ~ 70) and at most two edges a block, the
+// bound is 2 x 2 r0 / w < 12% of the block's mean, falling as the radii shrink (r ~ N^-1/6).
+// Without photons (only the direct light) the blocks are 20-60% too dark, so the test sees
+// the photons' contribution.
+TEST(Sppm, AgreesWithThePathTracerOnTheCornellBox) {
+    constexpr int kRes = 64, kBlock = 8, kReps = 4;
+    const std::string path = cornell("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes);
+    const std::string sppm = cornell(
+        "Integrator \"sppm\" \"integer maxdepth\" [ 5 ] \"float radius\" [ 2 ] "
+        "\"integer photonsperiteration\" [ 65536 ]",
+        kRes);
+    std::vector<std::vector<double>> pr, sr_, direct;
+    for (int r = 0; r < kReps; ++r) {
+        pr.push_back(block_means(render_text(path, 64, 100 + uint64_t(r)).y, kRes, kBlock));
+        sr_.push_back(block_means(render_text(sppm, 64, 200 + uint64_t(r)).y, kRes, kBlock));
+    }
+    const BlockStats p = stats_of(pr), s = stats_of(sr_);
+    // The path tracer's direct light alone (maxdepth 1), to show the photons matter.
+    const std::vector<double> d1 = block_means(
+        render_text(cornell("Integrator \"path\" \"integer maxdepth\" [ 1 ]", kRes), 64, 7).y, kRes,
+        kBlock);
+    double ms = 0, indirect = 0, total = 0;
+    for (size_t b = 0; b < p.mean.size(); ++b) {
+        const double se = std::sqrt(sqr(p.se[b]) + sqr(s.se[b]));
+        const double bias = 0.12 * p.mean[b];
+        EXPECT_NEAR(s.mean[b], p.mean[b], 5 * se + bias) << "block " << b;
+        if (std::getenv("SPPM_DEBUG"))
+            std::fprintf(stderr, "block %zu: sppm %g +- %g, path %g +- %g (ratio %.4f)\n", b,
+                         s.mean[b], s.se[b], p.mean[b], p.se[b], s.mean[b] / p.mean[b]);
+        ms += sqr((s.mean[b] - p.mean[b]) / (se + bias / 3)) / double(p.mean.size());
+        indirect += p.mean[b] - d1[b];
+        total += p.mean[b];
+    }
+    EXPECT_LT(ms, 4.0);
+    EXPECT_GT(indirect, 0.2 * total);
+    // Over the whole image the edge bias averages out to a few percent at most.
+    double ssum = 0, psum = 0, se2 = 0;
+    for (size_t b = 0; b < p.mean.size(); ++b) {
+        ssum += s.mean[b];
+        psum += p.mean[b];
+        se2 += sqr(p.se[b]) + sqr(s.se[b]);
+    }
+    EXPECT_NEAR(ssum / psum, 1, 0.03 + 5 * std::sqrt(se2) / psum);
+}
+
+// The image does not depend on the number of threads: each chunk of photons keeps its
+// deposits and the chunks are added in order. With a radius of 300 (the box is 556 wide)
+// every photon meets thousands of visible points, and the chunks shrink to a few photons to
+// bound their deposit lists: the same holds.
+TEST(Sppm, SameImageOnOneAndTwoThreads) {
+    for (const char* radius : {"8", "300"}) {
+        const std::string text = cornell(
+            std::string("Integrator \"sppm\" \"integer maxdepth\" [ 4 ] \"float radius\" [ ") +
+                radius + " ] \"integer photonsperiteration\" [ 5000 ]",
+            32);
+        const Img a = render_text(text, 3, 1, 1), b = render_text(text, 3, 1, 2);
+        ASSERT_EQ(a.rgb.data.size(), b.rgb.data.size());
+        EXPECT_TRUE(a.rgb.data == b.rgb.data) << "radius " << radius;
+        double sum = 0;
+        for (float v : a.rgb.data) sum += v;
+        EXPECT_GT(sum, 0);
+        EXPECT_EQ(a.stats.spp, 3);
+    }
+}
+
+}  // namespace
+}  // namespace sr::test
