@@ -48,7 +48,7 @@ struct RadiosityParams {
     Float residual = 1e-6f;      ///< relative residual the solve stops at
     int direct_samples = 16;     ///< per patch and non-delta light
     int max_depth = 5;           ///< gather bounces through non-diffuse surfaces
-    bool interpolate = true;     ///< read the solution interpolated from patch corners
+    bool interpolate = false;    ///< read the solution interpolated from patch corners
 };
 
 struct IntegratorSettings {
