@@ -684,7 +684,8 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         has_interface = has_interface || scene.shapes[size_t(si)].material < 0;
     const radiosity::Visibility visible = [&](DVec3 o, DVec3 t) {
         Ray ray{o.f(), (t - o).f(), 1 - Float(1e-4)};
-        if (!has_interface) return !scene.occluded(ray);
+        if (!scene.occluded(ray)) return true;
+        if (!has_interface) return false;
         SurfaceHit hit;
         for (int crossings = 0; crossings < 64; ++crossings) {
             if (!scene.intersect(ray, hit)) return true;
