@@ -85,7 +85,7 @@ std::vector<DirectPlan> direct_plans(const Scene& scene, const MeasureOptions& o
             continue;
         if (m.component == MeterComponent::Direct || m.max_depth == 1 || !scatters)
             plans[i] = DirectPlan::Deterministic;
-        else if (!opt.radiosity)  // the radiosity gather counts the meter's own component
+        else  // by either method: the radiosity gather then reads only the indirect part
             plans[i] = DirectPlan::Split;
     }
     return plans;
@@ -160,11 +160,10 @@ ReplicaResult replica_mean(const Scene& scene, const std::vector<Value>& values,
     for (int i = 0; i < n; ++i) {
         if (stop && (i & 255) == 0 && (*stop)()) return r;
         sampler.start_pixel_sample(Vec2i(int(vi), replica), i);
+        const MeterComponent component = indirect_only ? MeterComponent::Indirect : m.component;
         double v = radiosity ? radiosity_meter_sample(scene, *radiosity, m, val.point, sampler,
-                                                      counters)
-                             : meter_sample_of(scene, m, val.point, sampler, counters,
-                                               indirect_only ? MeterComponent::Indirect
-                                                             : m.component);
+                                                      counters, component)
+                             : meter_sample_of(scene, m, val.point, sampler, counters, component);
         if (!std::isfinite(v)) {
             ++r.nonfinite;
             v = 0;

@@ -488,8 +488,9 @@ svg .ax{font-size:11px;fill:#333}svg .cl{font-size:11px;fill:#111;paint-order:st
     h += "<h2>Method and accuracy</h2>\n<table class=\"kv\">\n";
     row(h, "Method",
         r.method == "radiosity"
-            ? "radiosity (direct light from every light per meter point; indirect light by "
-              "gather rays reading the radiosity solution)"
+            ? "radiosity (direct light from every light per meter point, by closed forms and "
+              "adaptive quadrature where the meter's estimator says \"deterministic\"; "
+              "indirect light by gather rays reading the radiosity solution)"
             : "path tracing (Monte Carlo, light sampling and BSDF sampling combined by multiple "
               "importance sampling)");
     for (const auto& [k, v] : r.method_figures) row(h, html_escape(r.method + ": " + k), num(v));

@@ -48,6 +48,7 @@ struct RadiosityParams {
     Float residual = 1e-6f;      ///< relative residual the solve stops at
     int direct_samples = 16;     ///< per patch and non-delta light
     int max_depth = 5;           ///< gather bounces through non-diffuse surfaces
+    bool interpolate = false;    ///< read the solution interpolated from patch corners
 };
 
 /// pbrt-v4's "sppm" (SPPMIntegrator::Create): photons traced per iteration (<= 0: one per

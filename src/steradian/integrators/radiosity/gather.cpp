@@ -67,7 +67,8 @@ SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& so
 }
 
 double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, const Meter& m,
-                              size_t point, Sampler& sampler, PathCounters& counters) {
+                              size_t point, Sampler& sampler, PathCounters& counters,
+                              MeterComponent component) {
     SampledWavelengths lambda = SampledWavelengths::sample_visible(sampler.get_1d());
     const Vec3 dir = m.directions[point];
     Point3 p = m.points[point];
@@ -89,13 +90,13 @@ double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, 
     const Frame frame = Frame::from_z(dir);
     const Point2 ug = sampler.get_2d();
     double e = 0;
-    if (m.component != MeterComponent::Direct) {
+    if (component != MeterComponent::Direct) {
         const Vec3 wi = frame.to_world(sample_cosine_hemisphere(ug));
         SampledSpectrum Li = radiosity_gather(scene, sol, spawn_ray(v, wi), lambda, sampler,
                                               counters, scene.integrator.radiosity.max_depth);
         e += kPi * meter_weigh(m, Li, lambda);
     }
-    if (m.component != MeterComponent::Indirect) {
+    if (component != MeterComponent::Indirect) {
         Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
         PathLimits lim;
         lim.max_depth = 1;

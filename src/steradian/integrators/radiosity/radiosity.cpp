@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
+#include <tuple>
 #include <cmath>
 #include <mutex>
 #include <thread>
@@ -162,7 +164,7 @@ bool radiosity_models_exactly(const Scene& scene, std::string* why) {
     return true;
 }
 
-int RadiositySolution::leaf_at(const SurfaceHit& h) const {
+int RadiositySolution::leaf_at(const SurfaceHit& h, double* ob1, double* ob2) const {
     if (h.shape < 0 || size_t(h.shape) >= m_shape_first.size()) return -1;
     const int first = m_shape_first[size_t(h.shape)];
     if (first < 0) return -1;
@@ -197,6 +199,8 @@ int RadiositySolution::leaf_at(const SurfaceHit& h) const {
             b2 = 1 - 2 * b2;
         }
     }
+    if (ob1) *ob1 = b1;
+    if (ob2) *ob2 = b2;
     return m_nodes[size_t(node)].patch;
 }
 
@@ -204,19 +208,31 @@ bool RadiositySolution::meshed(const SurfaceHit& h) const { return leaf_at(h) >=
 
 bool RadiositySolution::exitance(const SurfaceHit& h, const SampledWavelengths& lambda,
                                  SampledSpectrum& B) const {
-    const int leaf = leaf_at(h);
+    double b1 = 0, b2 = 0;
+    const int leaf = leaf_at(h, &b1, &b2);
     if (leaf < 0) return false;
     const Patch& p = m_patches[size_t(leaf)];
     const int side = ddot(DVec3(h.wo), p.n) >= 0 ? 0 : 1;
     const int u = p.unknown[side];
     B = SampledSpectrum(0);
     if (u < 0) return true;
-    const float* b = &m_B[size_t(u) * kBands];
+    // Linear in the patch from its corners' values (Gouraud's smooth shading of a radiosity
+    // solution), or the patch's constant.
+    const double b0 = std::max(0.0, 1 - b1 - b2);
     for (int i = 0; i < kSpectrumSamples; ++i) {
         const Float t = (lambda.lambda[i] - radiosity::kFirstNm) / radiosity::kStepNm;
         const int k = std::clamp(int(std::floor(t)), 0, kBands - 2);
         const Float f = std::clamp(t - Float(k), Float(0), Float(1));
-        B[i] = (1 - f) * b[k] + f * b[k + 1];
+        if (m_Bv.empty()) {
+            const float* b = &m_B[size_t(u) * kBands];
+            B[i] = (1 - f) * b[k] + f * b[k + 1];
+        } else {
+            const float* v = &m_Bv[size_t(u) * 3 * kBands];
+            const double lo = b0 * v[k] + b1 * v[kBands + k] + b2 * v[2 * kBands + k];
+            const double hi =
+                b0 * v[k + 1] + b1 * v[kBands + k + 1] + b2 * v[2 * kBands + k + 1];
+            B[i] = Float((1 - f) * lo + f * hi);
+        }
     }
     return true;
 }
@@ -234,6 +250,7 @@ uint64_t RadiositySolution::digest() const {
         mix(p.unknown, sizeof p.unknown);
     }
     if (!m_B.empty()) mix(m_B.data(), m_B.size() * sizeof(float));
+    if (!m_Bv.empty()) mix(m_Bv.data(), m_Bv.size() * sizeof(float));
     return h;
 }
 
@@ -660,9 +677,22 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         const auto& v = U[u].v;
         G[u] = radiosity::make_patch(v[0], v[1], v[2], U[u].side == 1);
     }
+    // Visibility as the gather and the path tracer's continued paths see it: through
+    // "interface" surfaces (a luminous opening, a medium boundary), which scatter nothing.
+    bool has_interface = false;
+    for (int si : scene.top_level_shapes)
+        has_interface = has_interface || scene.shapes[size_t(si)].material < 0;
     const radiosity::Visibility visible = [&](DVec3 o, DVec3 t) {
         Ray ray{o.f(), (t - o).f(), 1 - Float(1e-4)};
-        return !scene.occluded(ray);
+        if (!scene.occluded(ray)) return true;
+        if (!has_interface) return false;
+        SurfaceHit hit;
+        for (int crossings = 0; crossings < 64; ++crossings) {
+            if (!scene.intersect(ray, hit)) return true;
+            if (hit.material >= 0) return false;
+            ray = spawn_ray_to(hit, Point3(Float(t.x), Float(t.y), Float(t.z)));
+        }
+        return false;
     };
     std::atomic<uint64_t> pairs{0};
     arena.execute([&] {
@@ -819,6 +849,52 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                 double v = 0;
                 for (const auto& [c, coef] : plan[size_t(k)].terms) v += coef * X[u * C + size_t(c)];
                 S.m_B[u * kBands + size_t(k)] = float(std::max(0.0, v));
+            }
+    }
+
+    // ---- corner values for the interpolated read-out ------------------------------------------
+    // Each corner of each unknown takes the area-weighted mean of the unknowns of the same
+    // surface (same material, same plane and side) that have a corner there. Summed in unknown
+    // order on one thread: deterministic.
+    if (prm.interpolate && N > 0) {
+        const double q = 1e-7 * scene_diam;
+        struct Key {
+            int64_t x, y, z, nx, ny, nz, d;
+            int material;
+            bool operator<(const Key& o) const {
+                return std::tie(x, y, z, nx, ny, nz, d, material) <
+                       std::tie(o.x, o.y, o.z, o.nx, o.ny, o.nz, o.d, o.material);
+            }
+        };
+        auto key_of = [&](size_t u, int c) {
+            const DVec3 v = U[u].v[size_t(c)], n = U[u].n;
+            const auto& co = S.m_coarse[size_t(node_coarse[size_t(leaves[size_t(U[u].patch)])])];
+            return Key{std::llround(v.x / q), std::llround(v.y / q), std::llround(v.z / q),
+                       std::llround(n.x * 1e6), std::llround(n.y * 1e6), std::llround(n.z * 1e6),
+                       std::llround(ddot(n, v) / (1e3 * q)),
+                       scene.shapes[size_t(co.shape)].material};
+        };
+        std::map<Key, int> index;
+        std::vector<int> corner(N * 3);
+        for (size_t u = 0; u < N; ++u)
+            for (int c = 0; c < 3; ++c)
+                corner[u * 3 + size_t(c)] =
+                    index.emplace(key_of(u, c), int(index.size())).first->second;
+        std::vector<double> sum(index.size() * kBands, 0), area(index.size(), 0);
+        for (size_t u = 0; u < N; ++u)
+            for (int c = 0; c < 3; ++c) {
+                const size_t v = size_t(corner[u * 3 + size_t(c)]);
+                area[v] += U[u].area;
+                for (int k = 0; k < kBands; ++k)
+                    sum[v * kBands + size_t(k)] += U[u].area * double(S.m_B[u * kBands + size_t(k)]);
+            }
+        S.m_Bv.assign(N * 3 * kBands, 0.f);
+        for (size_t u = 0; u < N; ++u)
+            for (int c = 0; c < 3; ++c) {
+                const size_t v = size_t(corner[u * 3 + size_t(c)]);
+                for (int k = 0; k < kBands; ++k)
+                    S.m_Bv[(u * 3 + size_t(c)) * kBands + size_t(k)] =
+                        float(sum[v * kBands + size_t(k)] / area[v]);
             }
     }
     st.rays = rays;

@@ -17,13 +17,13 @@
 #include <vector>
 
 #include "steradian/integrators/radiosity/form_factor.h"
+#include "steradian/sensors/meter.h"
 #include "steradian/spectrum/sampled.h"
 
 namespace sr {
 
 class Scene;
 class Sampler;
-struct Meter;
 struct PathCounters;
 struct RadiosityParams;
 struct SurfaceHit;
@@ -64,8 +64,17 @@ public:
     bool meshed(const SurfaceHit& h) const;
 
     const std::vector<Patch>& patches() const { return m_patches; }
-    /// Exitance of unknown u at band k.
+    /// Exitance of unknown u at band k (the patch side's mean).
     float band(int u, int k) const { return m_B[size_t(u) * radiosity::kBands + size_t(k)]; }
+    /// Whether the solution is read interpolated from its patches' corners.
+    bool interpolated() const { return !m_Bv.empty(); }
+    /// Exitance of unknown u at corner c (0..2, the patch's p[c]) and band k: the
+    /// area-weighted mean of the unknowns of the same surface that share that corner (the
+    /// patch's own mean if not interpolated).
+    float corner_band(int u, int c, int k) const {
+        return m_Bv.empty() ? band(u, k)
+                            : m_Bv[(size_t(u) * 3 + size_t(c)) * radiosity::kBands + size_t(k)];
+    }
     const RadiosityStats& stats() const { return m_stats; }
     /// A hash (64-bit FNV-1a) of the solution's patches and exitances: equal on two
     /// processes that solved the same system to the same bits (docs/distributed.md).
@@ -74,7 +83,8 @@ public:
 private:
     friend std::unique_ptr<RadiositySolution> solve_radiosity(const Scene&, const RadiosityParams&,
                                                              int threads);
-    int leaf_at(const SurfaceHit& h) const;
+    /// The leaf patch a hit lies on (-1: none), and the hit's barycentrics (b1, b2) in it.
+    int leaf_at(const SurfaceHit& h, double* b1 = nullptr, double* b2 = nullptr) const;
     struct Node {
         int child = -1;  ///< first of four children, or -1 (leaf)
         int patch = -1;  ///< leaf: index into m_patches
@@ -91,7 +101,8 @@ private:
     std::vector<Coarse> m_coarse;
     std::vector<Node> m_nodes;
     std::vector<Patch> m_patches;
-    std::vector<float> m_B;  ///< unknowns x kBands
+    std::vector<float> m_B;   ///< unknowns x kBands
+    std::vector<float> m_Bv;  ///< unknowns x 3 corners x kBands (empty: not interpolated)
     RadiosityStats m_stats;
 };
 
@@ -118,10 +129,13 @@ SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& so
                                  SampledWavelengths& lambda, Sampler& sampler,
                                  PathCounters& counters, int max_depth);
 
-/// One sample of value `point` of meter `m` by the radiosity method: direct light by the
-/// path tracer's first vertex (light and BSDF sampling), indirect by one gather ray.
+/// One sample of value `point` of meter `m` by the radiosity method, counting `component` of
+/// the light (a receiving meter's: direct light by the path tracer's first vertex, light and
+/// BSDF sampling; indirect by one gather ray; measure() asks for the indirect part only
+/// where it computes the direct part by direct_light.h).
 double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, const Meter& m,
-                              size_t point, Sampler& sampler, PathCounters& counters);
+                              size_t point, Sampler& sampler, PathCounters& counters,
+                              MeterComponent component);
 
 /// A camera sample's radiance by the radiosity integrator (the camera ray's first hit given).
 SampledSpectrum radiosity_li_from(const Scene& scene, const RadiositySolution& sol,

@@ -302,6 +302,7 @@ void Builder::build_integrator(const EntityDesc& e) {
         r.subdivide = ps.get_float("subdivide", r.subdivide);
         r.residual = ps.get_float("residual", r.residual);
         r.direct_samples = ps.get_int("directsamples", r.direct_samples);
+        r.interpolate = ps.get_bool("interpolate", r.interpolate);
         if (!(r.patch_size >= 0) || !std::isfinite(r.patch_size))
             throw_error(e.loc, "\"patchsize\" must be >= 0 (0: from \"maxpatches\")");
         if (r.max_patches < 1 || r.max_patches > 20000)
