@@ -5,97 +5,27 @@
 // parameters with located errors, and what it refuses.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "steradian/core/error.h"
-#include "support/render_util.h"
+#include "support/block_stats.h"
 
 namespace sr::test {
 namespace {
 
-std::string read_text(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
+constexpr int kRes = 64, kBlock = 16, kReplicas = 6;
 
-void replace_once(std::string& s, const std::string& from, const std::string& to) {
-    const size_t i = s.find(from);
-    ASSERT_NE(i, std::string::npos) << from;
-    s.replace(i, from.size(), to);
-}
-
-/// The bundled Cornell box at res x res with the given Integrator directive (independent
-/// samples for bdpt and path, as bidir_test.cpp).
-std::string cornell(const std::string& integrator, int res) {
-    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) + "/scenes/cornell-box.pbrt");
-    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
-                 "\"integer xresolution\" [ " + std::to_string(res) +
-                     " ] \"integer yresolution\" [ " + std::to_string(res) + " ]");
-    replace_once(s, "Integrator \"path\" \"integer maxdepth\" [ 16 ]", integrator);
-    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
-    return s;
-}
-
-struct Img {
-    std::vector<double> y;
-    Image rgb;
-    RenderStats stats;
-};
-
-Img render_scene(const std::string& text, int spp, uint64_t seed, int threads = 2,
-                 RenderOptions ro = {}) {
-    SceneDesc d = parse_pbrt_string(text, "<test>", std::string(STERADIAN_SOURCE_DIR) + "/scenes");
-    BuildOptions bo;
-    bo.spp_override = spp;
-    Scene s = build_scene(d, bo);
-    Film film(s.film);
-    ro.threads = threads;
-    ro.spp = spp;
-    ro.seed = seed;
-    Img r;
-    r.stats = render(s, film, ro);
-    r.y = film.luminance();
-    r.rgb = film.rgb_image();
-    return r;
-}
-
-/// Block means (b x b pixels) of a res x res image, and the image mean as the last entry.
-std::vector<double> block_means(const std::vector<double>& y, int res, int b) {
-    const int n = res / b;
-    std::vector<double> m(size_t(n * n) + 1, 0);
-    for (int yy = 0; yy < res; ++yy)
-        for (int x = 0; x < res; ++x) {
-            m[size_t((yy / b) * n + x / b)] += y[size_t(yy * res + x)] / double(b * b);
-            m.back() += y[size_t(yy * res + x)] / double(res * res);
-        }
+/// The kBlock x kBlock-pixel block means of a res x res image, and the image mean last.
+std::vector<double> blocks_and_mean(const std::vector<double>& y, int res) {
+    std::vector<double> m = block_means(y, res, kBlock);
+    double mean = 0;
+    for (double v : y) mean += v / double(res * res);
+    m.push_back(mean);
     return m;
 }
-
-struct BlockStats {
-    std::vector<double> mean, se;
-};
-BlockStats stats_of(const std::vector<std::vector<double>>& reps) {
-    const size_t n = reps[0].size(), r = reps.size();
-    BlockStats s;
-    s.mean.assign(n, 0);
-    s.se.assign(n, 0);
-    for (const auto& v : reps)
-        for (size_t i = 0; i < n; ++i) s.mean[i] += v[i] / double(r);
-    for (const auto& v : reps)
-        for (size_t i = 0; i < n; ++i) s.se[i] += sqr(v[i] - s.mean[i]);
-    for (size_t i = 0; i < n; ++i) s.se[i] = std::sqrt(s.se[i] / double(r - 1) / double(r));
-    return s;
-}
-
-constexpr int kRes = 64, kBlock = 16, kReplicas = 6;
 
 BlockStats replicate(const std::string& text, int spp, uint64_t seed0) {
     std::vector<std::vector<double>> reps;
     for (int r = 0; r < kReplicas; ++r)
-        reps.push_back(block_means(render_scene(text, spp, seed0 + uint64_t(r)).y, kRes, kBlock));
+        reps.push_back(blocks_and_mean(render_seeded(text, spp, seed0 + uint64_t(r)).y, kRes));
     return stats_of(reps);
 }
 
@@ -125,11 +55,11 @@ const char* kMlt =
 // mlt, bdpt and path agree on the Cornell box's 16 x 16-pixel block means (direct view of the
 // light included) and on the image mean, within the spread of independent runs.
 TEST(Mlt, AgreesWithBdptAndPathOnTheCornellBox) {
-    const BlockStats mlt = replicate(cornell(kMlt, kRes), 64, 500);
+    const BlockStats mlt = replicate(cornell_box(kMlt, kRes), 64, 500);
     const BlockStats bdpt =
-        replicate(cornell("Integrator \"bdpt\" \"integer maxdepth\" [ 5 ]", kRes), 8, 200);
+        replicate(cornell_box("Integrator \"bdpt\" \"integer maxdepth\" [ 5 ]", kRes), 8, 200);
     const BlockStats path =
-        replicate(cornell("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes), 32, 100);
+        replicate(cornell_box("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes), 32, 100);
     expect_agree(mlt, bdpt, "mlt vs bdpt");
     expect_agree(mlt, path, "mlt vs path");
     // Not agreement by noise alone: mlt's blocks are precise to a few percent.
@@ -152,26 +82,26 @@ TEST(Mlt, AgreesWithPathInACropWindow) {
     auto rep = [&](const std::string& text, int spp, uint64_t seed0) {
         std::vector<std::vector<double>> reps;
         for (int r = 0; r < kReplicas; ++r) {
-            const Img im = render_scene(text, spp, seed0 + uint64_t(r));
+            const Rendered im = render_seeded(text, spp, seed0 + uint64_t(r));
             EXPECT_EQ(im.y.size(), size_t(kHalf * kHalf));
-            reps.push_back(block_means(im.y, kHalf, kBlock));
+            reps.push_back(blocks_and_mean(im.y, kHalf));
         }
         return stats_of(reps);
     };
-    const BlockStats mlt = rep(crop(cornell(kMlt, kRes)), 64, 700);
+    const BlockStats mlt = rep(crop(cornell_box(kMlt, kRes)), 64, 700);
     const BlockStats path =
-        rep(crop(cornell("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes)), 32, 800);
+        rep(crop(cornell_box("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes)), 32, 800);
     expect_agree(mlt, path, "mlt vs path, crop window");
 }
 
 // The same image on one and two threads (chains assigned by index, splats added in chain
 // order), and a render stopped after m rounds is the render of m mutations per pixel.
 TEST(Mlt, SameImageOnOneAndTwoThreads) {
-    const std::string text = cornell(
+    const std::string text = cornell_box(
         "Integrator \"mlt\" \"integer maxdepth\" [ 4 ] \"integer bootstrapsamples\" [ 2000 ] "
         "\"integer chains\" [ 37 ]",
         32);
-    const Img a = render_scene(text, 3, 1, 1), b = render_scene(text, 3, 1, 2);
+    const Rendered a = render_seeded(text, 3, 1, 1), b = render_seeded(text, 3, 1, 2);
     ASSERT_EQ(a.rgb.data.size(), b.rgb.data.size());
     EXPECT_TRUE(a.rgb.data == b.rgb.data);
     double sum = 0;
@@ -180,7 +110,7 @@ TEST(Mlt, SameImageOnOneAndTwoThreads) {
     EXPECT_EQ(a.stats.spp, 3);
     EXPECT_EQ(a.stats.nonfinite, 0u);
     // Another seed, another image.
-    const Img c = render_scene(text, 3, 2, 2);
+    const Rendered c = render_seeded(text, 3, 2, 2);
     EXPECT_FALSE(a.rgb.data == c.rgb.data);
 }
 
@@ -233,18 +163,18 @@ TEST(Mlt, ParameterErrorsNameTheirLocation) {
 
 // What the bidirectional kernels cannot trace is refused, as is a scene without light.
 TEST(Mlt, RefusesWhatItCannotRender) {
-    std::string ortho = cornell(kMlt, 16);
+    std::string ortho = cornell_box(kMlt, 16);
     replace_once(ortho, "Camera \"perspective\" \"float fov\" [ 39.3077 ]", "Camera \"orthographic\"");
     try {
-        render_scene(ortho, 1, 0);
+        render_seeded(ortho, 1, 0);
         ADD_FAILURE() << "orthographic camera accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("perspective"), std::string::npos) << e.what();
     }
-    std::string fog = cornell(kMlt, 16);
+    std::string fog = cornell_box(kMlt, 16);
     replace_once(fog, "WorldBegin", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" [ \"homogeneous\" ]");
     try {
-        render_scene(fog, 1, 0);
+        render_seeded(fog, 1, 0);
         ADD_FAILURE() << "a medium accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("bidirectional"), std::string::npos) << e.what();
@@ -253,7 +183,7 @@ TEST(Mlt, RefusesWhatItCannotRender) {
     const std::string dark = "Camera \"perspective\"\nIntegrator \"mlt\" \"integer bootstrapsamples\" [ 10 ]\n"
                              "WorldBegin\nShape \"sphere\"\n";
     try {
-        render_scene(dark, 1, 0);
+        render_seeded(dark, 1, 0);
         ADD_FAILURE() << "a scene without light rendered";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("bootstrap"), std::string::npos) << e.what();

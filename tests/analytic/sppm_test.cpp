@@ -4,78 +4,13 @@
 // the search radius) is bounded separately and added to the tolerance.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "steradian/bsdf/fresnel.h"
 #include "steradian/camera/camera.h"
 #include "steradian/core/error.h"
-#include "support/render_util.h"
+#include "support/block_stats.h"
 
 namespace sr::test {
 namespace {
-
-std::string read_text(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
-void replace_once(std::string& s, const std::string& from, const std::string& to) {
-    const size_t i = s.find(from);
-    ASSERT_NE(i, std::string::npos) << from;
-    s.replace(i, from.size(), to);
-}
-
-struct Img {
-    std::vector<double> y;
-    Image rgb;
-    RenderStats stats;
-};
-
-Img render_text(const std::string& text, int spp, uint64_t seed, int threads = 2,
-                const std::string& base = std::string(STERADIAN_SOURCE_DIR) + "/scenes") {
-    SceneDesc d = parse_pbrt_string(text, "<test>", base);
-    BuildOptions bo;
-    bo.spp_override = spp;
-    Scene s = build_scene(d, bo);
-    Film film(s.film);
-    RenderOptions ro;
-    ro.threads = threads;
-    ro.spp = spp;
-    ro.seed = seed;
-    Img r;
-    r.stats = render(s, film, ro);
-    r.y = film.luminance();
-    r.rgb = film.rgb_image();
-    return r;
-}
-
-std::vector<double> block_means(const std::vector<double>& y, int res, int b) {
-    const int n = res / b;
-    std::vector<double> m(size_t(n * n), 0);
-    for (int yy = 0; yy < res; ++yy)
-        for (int x = 0; x < res; ++x) m[size_t((yy / b) * n + x / b)] += y[size_t(yy * res + x)];
-    for (double& v : m) v /= double(b * b);
-    return m;
-}
-
-struct BlockStats {
-    std::vector<double> mean, se;
-};
-BlockStats stats_of(const std::vector<std::vector<double>>& reps) {
-    const size_t n = reps[0].size(), r = reps.size();
-    BlockStats s;
-    s.mean.assign(n, 0);
-    s.se.assign(n, 0);
-    for (const auto& v : reps)
-        for (size_t i = 0; i < n; ++i) s.mean[i] += v[i] / double(r);
-    for (const auto& v : reps)
-        for (size_t i = 0; i < n; ++i) s.se[i] += sqr(v[i] - s.mean[i]);
-    for (size_t i = 0; i < n; ++i) s.se[i] = std::sqrt(s.se[i] / double(r - 1) / double(r));
-    return s;
-}
 
 // ---- the specular-diffuse-specular scene ---------------------------------------------------
 
@@ -190,7 +125,7 @@ TEST(Sppm, SpecularDiffuseSpecularMatchesTheClosedForm) {
     constexpr int kReps = 6;
     std::vector<std::vector<double>> reps;
     for (int r = 0; r < kReps; ++r)
-        reps.push_back(block_means(render_text(sppm, 16, 10 + uint64_t(r)).y, kSdsRes, kSdsBlock));
+        reps.push_back(block_means(render_seeded(sppm, 16, 10 + uint64_t(r)).y, kSdsRes, kSdsBlock));
     const BlockStats got = stats_of(reps);
     double ms = 0;
     for (size_t b = 0; b < want.size(); ++b) {
@@ -212,7 +147,7 @@ TEST(Sppm, SpecularDiffuseSpecularMatchesTheClosedForm) {
     for (const char* integ : {"Integrator \"bdpt\" \"integer maxdepth\" [ 5 ]",
                               "Integrator \"path\" \"integer maxdepth\" [ 5 ]"}) {
         const std::vector<double> other =
-            block_means(render_text(sds_scene(integ), 16, 3).y, kSdsRes, kSdsBlock);
+            block_means(render_seeded(sds_scene(integ), 16, 3).y, kSdsRes, kSdsBlock);
         for (size_t b = 0; b < want.size(); ++b)
             if (want[b] > 0) {
                 EXPECT_LT(other[b], 1e-3 * want[b]) << integ << " block " << b;
@@ -221,16 +156,6 @@ TEST(Sppm, SpecularDiffuseSpecularMatchesTheClosedForm) {
 }
 
 // ---- the Cornell box -------------------------------------------------------------------------
-
-std::string cornell(const std::string& integrator, int res) {
-    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) + "/scenes/cornell-box.pbrt");
-    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
-                 "\"integer xresolution\" [ " + std::to_string(res) +
-                     " ] \"integer yresolution\" [ " + std::to_string(res) + " ]");
-    replace_once(s, "Integrator \"path\" \"integer maxdepth\" [ 16 ]", integrator);
-    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
-    return s;
-}
 
 // SPPM and the path tracer agree on the Cornell box's 8 x 8-pixel block means (64 blocks, the
 // light seen directly included) within their standard errors and SPPM's bias bound.
@@ -246,20 +171,20 @@ std::string cornell(const std::string& integrator, int res) {
 // the photons' contribution.
 TEST(Sppm, AgreesWithThePathTracerOnTheCornellBox) {
     constexpr int kRes = 64, kBlock = 8, kReps = 4;
-    const std::string path = cornell("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes);
-    const std::string sppm = cornell(
+    const std::string path = cornell_box("Integrator \"path\" \"integer maxdepth\" [ 5 ]", kRes);
+    const std::string sppm = cornell_box(
         "Integrator \"sppm\" \"integer maxdepth\" [ 5 ] \"float radius\" [ 2 ] "
         "\"integer photonsperiteration\" [ 65536 ]",
         kRes);
     std::vector<std::vector<double>> pr, sr_, direct;
     for (int r = 0; r < kReps; ++r) {
-        pr.push_back(block_means(render_text(path, 64, 100 + uint64_t(r)).y, kRes, kBlock));
-        sr_.push_back(block_means(render_text(sppm, 64, 200 + uint64_t(r)).y, kRes, kBlock));
+        pr.push_back(block_means(render_seeded(path, 64, 100 + uint64_t(r)).y, kRes, kBlock));
+        sr_.push_back(block_means(render_seeded(sppm, 64, 200 + uint64_t(r)).y, kRes, kBlock));
     }
     const BlockStats p = stats_of(pr), s = stats_of(sr_);
     // The path tracer's direct light alone (maxdepth 1), to show the photons matter.
     const std::vector<double> d1 = block_means(
-        render_text(cornell("Integrator \"path\" \"integer maxdepth\" [ 1 ]", kRes), 64, 7).y, kRes,
+        render_seeded(cornell_box("Integrator \"path\" \"integer maxdepth\" [ 1 ]", kRes), 64, 7).y, kRes,
         kBlock);
     double ms = 0, indirect = 0, total = 0;
     for (size_t b = 0; b < p.mean.size(); ++b) {
@@ -291,11 +216,11 @@ TEST(Sppm, AgreesWithThePathTracerOnTheCornellBox) {
 // bound their deposit lists: the same holds.
 TEST(Sppm, SameImageOnOneAndTwoThreads) {
     for (const char* radius : {"8", "300"}) {
-        const std::string text = cornell(
+        const std::string text = cornell_box(
             std::string("Integrator \"sppm\" \"integer maxdepth\" [ 4 ] \"float radius\" [ ") +
                 radius + " ] \"integer photonsperiteration\" [ 5000 ]",
             32);
-        const Img a = render_text(text, 3, 1, 1), b = render_text(text, 3, 1, 2);
+        const Rendered a = render_seeded(text, 3, 1, 1), b = render_seeded(text, 3, 1, 2);
         ASSERT_EQ(a.rgb.data.size(), b.rgb.data.size());
         EXPECT_TRUE(a.rgb.data == b.rgb.data) << "radius " << radius;
         double sum = 0;

@@ -36,14 +36,15 @@ inline MeasureResult measure_string(const std::string& pbrt, double rel_error,
                          threads);
 }
 
+/// Renders a pbrt-v4 scene given as text; `ro` gives the options other than threads and spp
+/// (the seed, for instance).
 inline Rendered render_string(const std::string& pbrt, int threads = 2, int spp = 0,
-                              const std::string& base_dir = ".") {
+                              const std::string& base_dir = ".", RenderOptions ro = {}) {
     SceneDesc d = parse_pbrt_string(pbrt, "<test>", base_dir);
     BuildOptions bo;
     bo.spp_override = spp;
     Scene s = build_scene(d, bo);
     Film film(s.film);
-    RenderOptions ro;
     ro.threads = threads;
     ro.spp = spp;
     Rendered r;
