@@ -197,7 +197,11 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                               {"solves", double(rs.solves)},
                               {"iterations", double(rs.iterations)},
                               {"residual", rs.residual},
-                              {"solve_seconds", rs.seconds}};
+                              {"solve_seconds", rs.seconds},
+                              {"mesh_seconds", rs.seconds_mesh},
+                              {"direct_seconds", rs.seconds_direct},
+                              {"exchange_seconds", rs.seconds_exchange},
+                              {"sweep_seconds", rs.seconds_sweeps}};
     }
     // Flatten (meter, point) into value indices.
     const std::vector<Value> values = values_of(scene);

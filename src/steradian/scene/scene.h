@@ -49,6 +49,8 @@ struct RadiosityParams {
     int direct_samples = 16;     ///< per patch and non-delta light
     int max_depth = 5;           ///< gather bounces through non-diffuse surfaces
     bool interpolate = false;    ///< read the solution interpolated from patch corners
+    bool hierarchical = true;    ///< solver: hierarchical radiosity (false: dense matrix, CG)
+    Float link_error = 2e-3f;    ///< hierarchical: a link's largest estimated error (fraction)
 };
 
 /// pbrt-v4's "sppm" (SPPMIntegrator::Create): photons traced per iteration (<= 0: one per

@@ -1,5 +1,9 @@
 #include "steradian/integrators/radiosity/form_factor.h"
 
+#include <algorithm>
+
+#include "steradian/sampling/hash.h"
+
 namespace sr::radiosity {
 
 double point_to_polygon(DVec3 x, DVec3 n, const DVec3* v, int count) {
@@ -75,6 +79,17 @@ const TriangleRule& triangle_rule(int degree) {
     return seven;
 }
 
+Point2 r2(uint64_t i, uint64_t key) {
+    constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+    const uint64_t h = hash(key);
+    const double s1 = double(h >> 40) * 0x1p-24, s2 = double((h >> 16) & 0xffffff) * 0x1p-24;
+    double x = s1 + a1 * double(i), y = s2 + a2 * double(i);
+    x -= std::floor(x);
+    y -= std::floor(y);
+    return Point2(Float(std::min(x, double(kOneMinusEpsilon))),
+                  Float(std::min(y, double(kOneMinusEpsilon))));
+}
+
 PatchGeom make_patch(DVec3 a, DVec3 b, DVec3 c, bool flip) {
     PatchGeom p;
     p.v = {a, b, c};
@@ -123,7 +138,7 @@ double distance_to_triangle(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
 }  // namespace
 
 double exchange(const PatchGeom& a, const PatchGeom& b, double eps, const Visibility& visible,
-                uint64_t* rays, int receiver) {
+                uint64_t* rays, int receiver, int max_level) {
     const bool a_recv = receiver < 0 ? a.area <= b.area : receiver == 0;
     const PatchGeom& r = a_recv ? a : b;
     const PatchGeom& s = a_recv ? b : a;
@@ -164,7 +179,7 @@ double exchange(const PatchGeom& a, const PatchGeom& b, double eps, const Visibi
         const double diam = r.diam / double(1 << it.level);
         const double dist = distance_to_triangle(g, s.v[0], s.v[1], s.v[2]);
         const double ratio = diam / std::max(dist, 1e-300);
-        if (ratio > 1 && it.level < 6 && top + 4 <= int(stack.size())) {
+        if (ratio > 1 && it.level < max_level && top + 4 <= int(stack.size())) {
             const DVec3 m01 = (t[0] + t[1]) * 0.5, m12 = (t[1] + t[2]) * 0.5,
                         m02 = (t[0] + t[2]) * 0.5;
             stack[size_t(top++)] = {{t[0], m01, m02}, it.level + 1};

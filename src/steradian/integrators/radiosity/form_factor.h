@@ -36,6 +36,10 @@ inline double dlength(DVec3 a) { return std::sqrt(ddot(a, a)); }
 /// the angle between R_k and R_k+1.
 double point_to_polygon(DVec3 x, DVec3 n, const DVec3* v, int count);
 
+/// A low-discrepancy point set in [0,1)^2: the R2 sequence (Roberts 2018) shifted by a hash
+/// of `key` (deterministic sample points for visibility and direct light).
+Point2 r2(uint64_t i, uint64_t key);
+
 /// A quadrature rule on a triangle: barycentric points (b0, b1, b2) and weights summing to 1.
 struct TriangleRule {
     int count = 0;
@@ -68,8 +72,9 @@ using Visibility = std::function<bool(DVec3 from, DVec3 to)>;
 /// under 0.3 of the distance) casts one ray between the centroids; a nearer one, a ray from
 /// each quadrature point to a point of the source (all from points offset by eps along the
 /// normals). `rays` (if set) is increased by the rays cast. `receiver`
-/// 0 or 1 forces a or b to be the receiver (tests).
+/// 0 or 1 forces a or b to be the receiver (tests). `max_level` replaces the 6 levels (a
+/// coarser quadrature for exchanges whose accuracy matters less).
 double exchange(const PatchGeom& a, const PatchGeom& b, double eps, const Visibility& visible,
-                uint64_t* rays = nullptr, int receiver = -1);
+                uint64_t* rays = nullptr, int receiver = -1, int max_level = 6);
 
 }  // namespace sr::radiosity

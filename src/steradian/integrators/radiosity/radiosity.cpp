@@ -16,6 +16,7 @@
 #include "steradian/bsdf/bsdf.h"
 #include "steradian/core/error.h"
 #include "steradian/core/output_file.h"
+#include "steradian/integrators/radiosity/hierarchical.h"
 #include "steradian/material/material.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/sampling/warp.h"
@@ -26,6 +27,7 @@
 namespace sr {
 
 using radiosity::DVec3;
+using radiosity::r2;
 using radiosity::kBands;
 constexpr int kGroups = kBands / kSpectrumSamples;
 
@@ -39,18 +41,6 @@ SampledWavelengths band_group(int g) {
         w.pdf[i] = 1;
     }
     return w;
-}
-
-/// A low-discrepancy point set: the R2 sequence (Roberts 2018) shifted by a hash.
-Point2 r2(uint64_t i, uint64_t key) {
-    constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
-    const uint64_t h = hash(key);
-    const double s1 = double(h >> 40) * 0x1p-24, s2 = double((h >> 16) & 0xffffff) * 0x1p-24;
-    double x = s1 + a1 * double(i), y = s2 + a2 * double(i);
-    x -= std::floor(x);
-    y -= std::floor(y);
-    return Point2(Float(std::min(x, double(kOneMinusEpsilon))),
-                  Float(std::min(y, double(kOneMinusEpsilon))));
 }
 
 SurfaceHit point_vertex(DVec3 p, DVec3 n) {
@@ -106,8 +96,15 @@ public:
         for (int g = g0; g < first_group + groups; ++g) {
             SampledSpectrum L = ls->L;
             if (g != g0) {
-                auto lg = sample_li(light, ctx, u, m_groups[size_t(g)]);
-                L = lg ? lg->L : SampledSpectrum(0);
+                // An area light's sample is the same point for every wavelength: only its
+                // radiance there is evaluated again.
+                if (std::holds_alternative<DiffuseAreaLight>(light)) {
+                    L = light_emitted(light, ls->p_light, ls->n_light, -ls->wi,
+                                      m_groups[size_t(g)]);
+                } else {
+                    auto lg = sample_li(light, ctx, u, m_groups[size_t(g)]);
+                    L = lg ? lg->L : SampledSpectrum(0);
+                }
             }
             for (int i = 0; i < kSpectrumSamples; ++i)
                 bands[g * kSpectrumSamples + i] += f * double(L[i]);
@@ -414,8 +411,10 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         if (sides > size_t(prm.max_patches))
             throw Error(fmt::format(
                 "the radiosity method needs at least {} patches (one per lit side of each "
-                "diffuse triangle), more than \"maxpatches\" {}: raise it (the form factors "
-                "take 4 maxpatches^2 bytes) or use the path tracer", sides, prm.max_patches));
+                "diffuse triangle), more than \"maxpatches\" {}: raise it{} or use the path "
+                "tracer", sides, prm.max_patches,
+                prm.hierarchical ? "" : " (the \"matrix\" solver's form factors take 4 "
+                                        "maxpatches^2 bytes)"));
     }
     double h = prm.patch_size;
     if (h > 0 && count_for(h) > double(prm.max_patches)) {
@@ -481,6 +480,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         return n;
     };
 
+    const auto t_mesh = Clock::now();
     // ---- adaptive subdivision where the direct irradiance varies -----------------------------
     // The photopic direct irradiance at the leaf's corners (pulled 2 % towards its centroid)
     // and centroid, per active side; a leaf whose spread exceeds `subdivide` times its mean
@@ -501,12 +501,18 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         for (int k = 0; k < kBands; ++k) y += ybar[size_t(k)] * bands[k];
         return y;
     };
+    // Per node, once: the spread and mean of its samples (-1: not computed yet).
+    std::vector<double> node_spread, node_mean;
     for (int round = 0; round < 3 && prm.subdivide > 0; ++round) {
         const size_t nl = leaves.size();
-        std::vector<double> spread(nl, 0), mean(nl, 0);
+        node_spread.resize(S.m_nodes.size(), -1);
+        node_mean.resize(S.m_nodes.size(), 0);
+        std::vector<int> todo;
+        for (int nd : leaves)
+            if (node_spread[size_t(nd)] < 0) todo.push_back(nd);
         arena.execute([&] {
-            tbb::parallel_for(size_t(0), nl, [&](size_t li) {
-                const int nd = leaves[li];
+            tbb::parallel_for(size_t(0), todo.size(), [&](size_t ti) {
+                const int nd = todo[ti];
                 const auto& a = active[size_t(node_coarse[size_t(nd)])];
                 const Tri t = node_tri[size_t(nd)];
                 const DVec3 g = (t.a + t.b + t.c) * (1.0 / 3);
@@ -527,12 +533,15 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                         ++cnt;
                     }
                 }
-                if (cnt > 0) {
-                    spread[li] = hi - lo;
-                    mean[li] = sum / cnt;
-                }
+                node_spread[size_t(nd)] = cnt > 0 ? hi - lo : 0;
+                node_mean[size_t(nd)] = cnt > 0 ? sum / cnt : 0;
             });
         });
+        std::vector<double> spread(nl, 0), mean(nl, 0);
+        for (size_t li = 0; li < nl; ++li) {
+            spread[li] = node_spread[size_t(leaves[li])];
+            mean[li] = node_mean[size_t(leaves[li])];
+        }
         double global = 0, garea = 0;
         for (size_t li = 0; li < nl; ++li) {
             const Tri t = node_tri[size_t(leaves[li])];
@@ -579,6 +588,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     // Leaves in node order (deterministic, and the PLY's order).
     std::sort(leaves.begin(), leaves.end());
 
+    const auto t_adaptive = Clock::now();
     // ---- patches and unknowns ------------------------------------------------------------------
     std::vector<Unknown> U;
     for (int nd : leaves) {
@@ -609,6 +619,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     st.patches = S.m_patches.size();
     st.unknowns = N;
 
+    const auto t_direct = Clock::now();
     // ---- reflectance and direct irradiance per unknown -----------------------------------------
     std::vector<double> rho(N * kBands, 0), E(N * kBands, 0);
     arena.execute([&] {
@@ -670,13 +681,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         });
     });
 
-    // ---- form factors: S_ab = A_r F(r -> s), symmetric -------------------------------------------
-    std::vector<float> Smat(N * N, 0.f);
-    std::vector<radiosity::PatchGeom> G(N);
-    for (size_t u = 0; u < N; ++u) {
-        const auto& v = U[u].v;
-        G[u] = radiosity::make_patch(v[0], v[1], v[2], U[u].side == 1);
-    }
     // Visibility as the gather and the path tracer's continued paths see it: through
     // "interface" surfaces (a luminous opening, a medium boundary), which scatter nothing.
     bool has_interface = false;
@@ -694,6 +698,59 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         }
         return false;
     };
+    S.m_B.assign(N * kBands, 0.f);
+    const auto t_links = Clock::now();
+    if (prm.hierarchical) {
+        // ---- hierarchical radiosity over the patch trees (hierarchical.cpp) --------------------
+        // A tree per lit side of each coarse triangle, its nodes the mesh's (sub-)triangles.
+        std::vector<radiosity::HierNode> hn;
+        std::vector<int> roots;
+        auto build = [&](auto&& self, int nd, int side, size_t at) -> void {
+            const Tri t = node_tri[size_t(nd)];
+            hn[at].g = radiosity::make_patch(t.a, t.b, t.c, side == 1);
+            const int ch = S.m_nodes[size_t(nd)].child;
+            if (ch < 0) {
+                hn[at].unknown = S.m_patches[size_t(S.m_nodes[size_t(nd)].patch)].unknown[side];
+                return;
+            }
+            const size_t first = hn.size();
+            hn.resize(first + 4);
+            hn[at].child = int(first);
+            for (int c = 0; c < 4; ++c) self(self, ch + c, side, first + size_t(c));
+        };
+        for (size_t i = 0; i < nc; ++i) {
+            const auto& c = S.m_coarse[i];
+            if (c.root < 0) continue;
+            for (int side = 0; side < 2; ++side) {
+                if (!active[i][size_t(side)]) continue;
+                roots.push_back(int(hn.size()));
+                hn.emplace_back();
+                build(build, c.root, side, hn.size() - 1);
+            }
+        }
+        radiosity::HierParams hp;
+        hp.link_error = double(prm.link_error);
+        hp.residual = std::max(double(prm.residual), 1e-12);
+        hp.eps = eps;
+        radiosity::HierStats hs;
+        const std::vector<double> yb(ybar.begin(), ybar.end());
+        const std::vector<double> B =
+            radiosity::solve_hierarchical(hn, roots, rho, E, yb, visible, hp, arena, hs);
+        for (size_t i = 0; i < N * kBands; ++i) S.m_B[i] = float(std::max(0.0, B[i]));
+        st.pairs = hs.links;
+        st.seconds_sweeps = hs.seconds_sweeps;
+        st.iterations = hs.sweeps;
+        st.residual = hs.residual;
+        st.solves = 1;
+        rays += hs.rays;
+    } else {
+    // ---- form factors: S_ab = A_r F(r -> s), symmetric -------------------------------------------
+    std::vector<float> Smat(N * N, 0.f);
+    std::vector<radiosity::PatchGeom> G(N);
+    for (size_t u = 0; u < N; ++u) {
+        const auto& v = U[u].v;
+        G[u] = radiosity::make_patch(v[0], v[1], v[2], U[u].side == 1);
+    }
     std::atomic<uint64_t> pairs{0};
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, N, 1), [&](const tbb::blocked_range<size_t>& rg) {
@@ -720,7 +777,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     // solved once and recombined: a single light over grey surfaces is one solve for all 48
     // bands. All the basis vectors of all the groups are solved together as the columns of
     // one block (the form factors read once per iteration for all of them).
-    S.m_B.assign(N * kBands, 0.f);
     struct Column {
         std::vector<double> d, mask, q;
     };
@@ -851,6 +907,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                 S.m_B[u * kBands + size_t(k)] = float(std::max(0.0, v));
             }
     }
+    }  // matrix solver
 
     // ---- corner values for the interpolated read-out ------------------------------------------
     // Each corner of each unknown takes the area-weighted mean of the unknowns of the same
@@ -898,7 +955,12 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             }
     }
     st.rays = rays;
-    st.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    const auto t_end = Clock::now();
+    auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+    st.seconds = secs(t0, t_end);
+    st.seconds_mesh = secs(t_mesh, t_adaptive);
+    st.seconds_direct = secs(t_direct, t_links);
+    st.seconds_exchange = secs(t_links, t_end) - st.seconds_sweeps;
     return sol;
 }
 

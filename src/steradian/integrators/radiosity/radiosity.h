@@ -38,12 +38,16 @@ struct RadiosityStats {
     size_t diffuse_triangles = 0;  ///< scene triangles meshed
     size_t patches = 0;            ///< leaf patches
     size_t unknowns = 0;           ///< patch sides in the system
-    size_t pairs = 0;              ///< form factors computed (facing pairs)
+    size_t pairs = 0;              ///< form factors computed (facing pairs, or links)
     uint64_t rays = 0;             ///< visibility and direct-light shadow rays
     int solves = 0;                ///< right-hand sides solved (after rank reduction)
-    int iterations = 0;            ///< conjugate-gradient iterations, all solves
+    int iterations = 0;            ///< conjugate-gradient iterations, or hierarchical sweeps
     double residual = 0;           ///< largest relative residual reached
-    double seconds = 0;            ///< wall
+    double seconds = 0;            ///< wall, all of the pass
+    double seconds_mesh = 0;       ///< wall: the adaptive subdivision
+    double seconds_direct = 0;     ///< wall: reflectances and direct irradiance per patch
+    double seconds_exchange = 0;   ///< wall: links / form factors (and the CG solve)
+    double seconds_sweeps = 0;     ///< wall: the hierarchical solver's sweeps
     std::vector<std::string> notes;  ///< what the pass left out (unmeshed shapes, ...)
 };
 

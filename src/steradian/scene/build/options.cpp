@@ -303,11 +303,25 @@ void Builder::build_integrator(const EntityDesc& e) {
         r.residual = ps.get_float("residual", r.residual);
         r.direct_samples = ps.get_int("directsamples", r.direct_samples);
         r.interpolate = ps.get_bool("interpolate", r.interpolate);
+        const std::string solver = ps.get_string("solver", "hierarchical");
+        if (solver == "hierarchical")
+            r.hierarchical = true;
+        else if (solver == "matrix")
+            r.hierarchical = false;
+        else
+            throw_error(e.loc, "unknown \"solver\" \"{}\": expected hierarchical or matrix",
+                        solver);
+        r.link_error = ps.get_float("linkerror", r.link_error);
+        if (!(r.link_error > 0 && r.link_error < 1))
+            throw_error(e.loc, "\"linkerror\" must be in (0, 1)");
         if (!(r.patch_size >= 0) || !std::isfinite(r.patch_size))
             throw_error(e.loc, "\"patchsize\" must be >= 0 (0: from \"maxpatches\")");
-        if (r.max_patches < 1 || r.max_patches > 20000)
-            throw_error(e.loc, "\"maxpatches\" {} is outside 1..20000 (the form factors are "
-                        "a dense matrix of maxpatches^2 floats)", r.max_patches);
+        if (!r.hierarchical && (r.max_patches < 1 || r.max_patches > 20000))
+            throw_error(e.loc, "\"maxpatches\" {} is outside 1..20000 (the \"matrix\" "
+                        "solver's form factors are a dense matrix of maxpatches^2 floats)",
+                        r.max_patches);
+        if (r.hierarchical && (r.max_patches < 1 || r.max_patches > 1000000))
+            throw_error(e.loc, "\"maxpatches\" {} is outside 1..1000000", r.max_patches);
         if (!(r.subdivide >= 0) || !std::isfinite(r.subdivide))
             throw_error(e.loc, "\"subdivide\" must be >= 0 (0: no adaptive subdivision)");
         if (!(r.residual > 0 && r.residual < 1))
