@@ -6,6 +6,13 @@
 // standard error required to be well inside them; fixed seeds (deterministic).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+
 #include "steradian/core/error.h"
 #include "steradian/integrators/measure.h"
 #include "steradian/integrators/radiosity/radiosity.h"
@@ -108,6 +115,58 @@ TEST(Radiosity, SolutionDoesNotDependOnTheThreadCount) {
     for (size_t u = 0; u < a->stats().unknowns; ++u)
         for (int k = 0; k < radiosity::kBands; ++k)
             ASSERT_EQ(a->band(int(u), k), b->band(int(u), k));
+}
+
+// The exported mesh: per face the patch's photopic exitance (the solution: its area sum is
+// the reflected flux), per vertex the mean of the surface's patches there (so within the
+// range of the face values, and smooth: equal at a shared corner).
+TEST(Radiosity, MeshExportCarriesTheSolution) {
+    Scene s = load("case-5.8-rho0.5.pbrt");
+    RadiosityParams prm;
+    prm.max_patches = 300;
+    auto sol = solve_radiosity(s, prm, 2);
+    const std::string path = ::testing::TempDir() + "radiosity_mesh_test.ply";
+    write_radiosity_ply(*sol, path);
+    std::ifstream in(path, std::ios::binary);
+    const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t h = data.find("end_header\n");
+    ASSERT_NE(h, std::string::npos);
+    const size_t np = sol->patches().size();
+    ASSERT_NE(data.find(fmt::format("element vertex {}\n", 3 * np)), std::string::npos);
+    ASSERT_NE(data.find(fmt::format("element face {}\n", np)), std::string::npos);
+    const char* v = data.data() + h + 11;
+    constexpr size_t vsize = 12 + 3 + 4, fsize = 1 + 12 + 4;
+    ASSERT_EQ(data.size(), h + 11 + 3 * np * vsize + np * fsize);
+    auto f32 = [](const char* p) {
+        float x;
+        std::memcpy(&x, p, 4);
+        return double(x);
+    };
+    const char* f = v + 3 * np * vsize;
+    double flux = 0, lo = kInfinity, hi = 0;
+    std::map<std::array<float, 3>, double> at;  // a corner's vertex exitance
+    for (size_t i = 0; i < np; ++i) {
+        const double e = f32(f + i * fsize + 13);
+        flux += sol->patches()[i].area * e;
+        lo = std::min(lo, e);
+        hi = std::max(hi, e);
+    }
+    EXPECT_NEAR(flux, reflected_flux(*sol), 1e-5 * flux);
+    for (size_t i = 0; i < 3 * np; ++i) {
+        const char* p = v + i * vsize;
+        const double e = f32(p + 15);
+        EXPECT_GE(e, lo * (1 - 1e-6));
+        EXPECT_LE(e, hi * (1 + 1e-6));
+        const std::array<float, 3> key{float(f32(p)), float(f32(p + 4)), float(f32(p + 8))};
+        // The cube's corners and edges join different planes; compare within a face's
+        // interior only (all patches of a face share plane, side and material).
+        int on_boundary = 0;
+        for (float c : key) on_boundary += std::abs(c) > 1.99f;
+        if (on_boundary != 1) continue;
+        auto [it, fresh] = at.emplace(key, e);
+        if (!fresh) EXPECT_EQ(it->second, e);
+    }
+    std::remove(path.c_str());
 }
 
 TEST(Radiosity, RefusesAMeshBeyondItsPatchBudget) {

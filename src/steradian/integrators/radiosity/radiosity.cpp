@@ -598,6 +598,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         p.p = {t.a, t.b, t.c};
         p.n = S.m_coarse[size_t(ci)].n;
         p.area = tri_area(t.b - t.a, t.c - t.a);
+        p.material = scene.shapes[size_t(S.m_coarse[size_t(ci)].shape)].material;
         const int pi = int(S.m_patches.size());
         S.m_nodes[size_t(nd)].patch = pi;
         for (int side = 0; side < 2; ++side) {
@@ -967,11 +968,12 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
 void write_radiosity_ply(const RadiositySolution& sol, const std::string& path) {
     const auto& P = sol.patches();
     const std::array<double, kBands> ybar = band_ybar();
-    std::vector<std::array<double, 4>> xyzy(P.size());  // X, Y, Z, lm/m^2
-    double ymax = 0;
+    // Per patch: X, Y, Z of its exitance (Y in lm/m^2), from the side in the system.
+    std::vector<std::array<double, 3>> xyz(P.size());
+    double lo[3] = {kInfinity, kInfinity, kInfinity}, hi[3] = {-kInfinity, -kInfinity, -kInfinity};
     for (size_t i = 0; i < P.size(); ++i) {
         const int u = P[i].unknown[0] >= 0 ? P[i].unknown[0] : P[i].unknown[1];
-        std::array<double, 4> c{0, 0, 0, 0};
+        std::array<double, 3> c{0, 0, 0};
         if (u >= 0)
             for (int k = 0; k < kBands; ++k) {
                 const Float l = radiosity::band_lambda(k);
@@ -981,40 +983,77 @@ void write_radiosity_ply(const RadiositySolution& sol, const std::string& path) 
                 c[1] += ybar[size_t(k)] * b;
                 c[2] += w * double(cie_z()(l)) * b;
             }
-        c[3] = c[1];
-        ymax = std::max(ymax, c[1]);
-        xyzy[i] = c;
+        xyz[i] = c;
+        for (const auto& v : P[i].p) {
+            const double q[3] = {v.x, v.y, v.z};
+            for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+        }
+    }
+    // Corners of the same surface (material, plane, side) at the same place share a value:
+    // the area-weighted mean of their patches'. In patch order: deterministic.
+    const double diag = P.empty() ? 1
+                                  : std::max(1e-12, std::sqrt(sqr(hi[0] - lo[0]) + sqr(hi[1] - lo[1]) +
+                                                              sqr(hi[2] - lo[2])));
+    const double qs = 1e-7 * diag;
+    using Key = std::array<int64_t, 8>;
+    std::map<Key, int> index;
+    std::vector<int> corner(3 * P.size());
+    for (size_t i = 0; i < P.size(); ++i) {
+        const DVec3 n = P[i].unknown[0] >= 0 ? P[i].n : P[i].n * -1.0;
+        for (int c = 0; c < 3; ++c) {
+            const DVec3 v = P[i].p[size_t(c)];
+            const Key k{std::llround(v.x / qs), std::llround(v.y / qs), std::llround(v.z / qs),
+                        std::llround(n.x * 1e6), std::llround(n.y * 1e6), std::llround(n.z * 1e6),
+                        std::llround(ddot(n, v) / (1e3 * qs)), P[i].material};
+            corner[3 * i + size_t(c)] = index.emplace(k, int(index.size())).first->second;
+        }
+    }
+    std::vector<std::array<double, 4>> acc(index.size(), {0, 0, 0, 0});  // A X, A Y, A Z, A
+    for (size_t i = 0; i < P.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            auto& a = acc[size_t(corner[3 * i + size_t(c)])];
+            for (int k = 0; k < 3; ++k) a[size_t(k)] += P[i].area * xyz[i][size_t(k)];
+            a[3] += P[i].area;
+        }
+    double ymax = 0;
+    for (auto& a : acc) {
+        for (int k = 0; k < 3; ++k) a[size_t(k)] = a[3] > 0 ? a[size_t(k)] / a[3] : 0;
+        ymax = std::max(ymax, a[1]);
     }
     std::string out = fmt::format(
-        "ply\nformat binary_little_endian 1.0\ncomment steradian radiosity solution: "
-        "per-vertex sRGB of the reflected exitance (brightest patch white), exitance in lm/m^2\n"
+        "ply\nformat binary_little_endian 1.0\ncomment steradian radiosity solution: per face "
+        "the patch's reflected exitance in lm/m^2; per vertex the mean of the surface's patches "
+        "there, as sRGB (brightest vertex white) and lm/m^2\n"
         "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
         "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty float exitance\n"
-        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        "element face {}\nproperty list uchar int vertex_indices\nproperty float exitance\n"
+        "end_header\n",
         3 * P.size(), P.size());
     auto put = [&](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
-    for (size_t i = 0; i < P.size(); ++i) {
-        const double s = ymax > 0 ? 1 / ymax : 0;
-        Rgb rgb = xyz_to_linear_srgb(Xyz{Float(xyzy[i][0] * s), Float(xyzy[i][1] * s),
-                                         Float(xyzy[i][2] * s)});
-        uint8_t c[3];
-        for (int k = 0; k < 3; ++k)
-            c[k] = uint8_t(std::lround(255 * std::clamp(srgb_encode(std::max(Float(0), rgb[k])),
-                                                        Float(0), Float(1))));
-        const float e = float(xyzy[i][3]);
+    const double s = ymax > 0 ? 1 / ymax : 0;
+    for (size_t i = 0; i < P.size(); ++i)
         for (int v = 0; v < 3; ++v) {
-            const float xyz[3] = {float(P[i].p[size_t(v)].x), float(P[i].p[size_t(v)].y),
-                                  float(P[i].p[size_t(v)].z)};
-            put(xyz, sizeof xyz);
+            const auto& a = acc[size_t(corner[3 * i + size_t(v)])];
+            const Rgb rgb = xyz_to_linear_srgb(
+                Xyz{Float(a[0] * s), Float(a[1] * s), Float(a[2] * s)});
+            uint8_t c[3];
+            for (int k = 0; k < 3; ++k)
+                c[k] = uint8_t(std::lround(
+                    255 * std::clamp(srgb_encode(std::max(Float(0), rgb[k])), Float(0), Float(1))));
+            const float p3[3] = {float(P[i].p[size_t(v)].x), float(P[i].p[size_t(v)].y),
+                                 float(P[i].p[size_t(v)].z)};
+            const float e = float(a[1]);
+            put(p3, sizeof p3);
             put(c, 3);
             put(&e, sizeof e);
         }
-    }
     for (size_t i = 0; i < P.size(); ++i) {
         const uint8_t three = 3;
         put(&three, 1);
         const int32_t idx[3] = {int32_t(3 * i), int32_t(3 * i + 1), int32_t(3 * i + 2)};
         put(idx, sizeof idx);
+        const float e = float(xyz[i][1]);
+        put(&e, sizeof e);
     }
     write_text_file(path, out);
 }

@@ -60,6 +60,7 @@ public:
         radiosity::DVec3 n;  ///< unit normal of the front side (the triangle's winding)
         double area = 0;
         int unknown[2] = {-1, -1};  ///< front and back side (-1: not in the system)
+        int material = -1;          ///< the scene material of its triangle
     };
     /// Reflected exitance at a hit of the scene, at the wavelengths lambda; false if the hit
     /// is not on a meshed (diffuse) surface.
@@ -120,9 +121,11 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
 /// not, when it returns false.
 bool radiosity_models_exactly(const Scene& scene, std::string* why = nullptr);
 
-/// Writes the solved mesh as a binary PLY with per-vertex sRGB colours (the front side's
-/// exitance, else the back's, as XYZ to sRGB, scaled so that the brightest patch is white)
-/// and the photopic exitance in lm/m^2 per vertex ("exitance" property).
+/// Writes the solved mesh as a binary PLY: per face (patch) its photopic exitance in lm/m^2
+/// ("exitance": the solution itself, the front side's, else the back's); per vertex, for a
+/// smooth look, the area-weighted mean over the patches of the same surface (material, plane
+/// and side) that have a corner there, as sRGB (XYZ to sRGB, the brightest vertex white) and
+/// lm/m^2 ("exitance").
 void write_radiosity_ply(const RadiositySolution& sol, const std::string& path);
 
 /// Radiance arriving along `ray` as the final gather sees it: the solution's reflected
