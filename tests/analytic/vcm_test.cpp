@@ -67,6 +67,65 @@ TEST(Vcm, SpecularDiffuseSpecularMatchesTheClosedForm) {
     }
 }
 
+// ---- inside a glowing sphere -----------------------------------------------------------------
+
+// The camera at the centre of a sphere (radius 1) whose inside is a diffuse emitter of
+// radiance Le and a Lambertian reflector of reflectance rho = 0.5: by symmetry the radiance
+// is the same everywhere, and with paths of at most D = maxdepth scattering vertices it is
+// Le (1 + rho + ... + rho^D). So the image mean is that series (63/32 for D = 5) times the
+// image mean at maxdepth 0 (Le seen directly, weight 1). Rendering both with the same seed
+// gives the iterations the same wavelengths, so the ratio has no spectral noise.
+//
+// Merging is unbiased here up to its cut-off of light vertices whose incoming direction lies
+// below the camera vertex's tangent plane: the irradiance is uniform, and the part of the
+// sphere within the distance r of a point is a cap of area exactly pi r^2 (Archimedes), but a
+// light vertex up to r away has its normal tilted by up to r/R, and the cosine-weighted
+// share of directions within that angle of grazing is sin^2(r/R) (1 % for r = 0.1, R = 1):
+// we allow that of the series. With N = 256 light paths and r = 0.1, eta = 8 and merging
+// takes most of the weight on these diffuse paths (the connections' ratio is about eta cos^2
+// / (pi d^2) ~ 2.5 per vertex), so its MIS weights against the connections' are what the
+// test checks; the connections alone and merging alone are checked too.
+TEST(Vcm, InsideAGlowingSphereMatchesTheSeries) {
+    auto scene = [](const std::string& integrator) {
+        return "LookAt 0 0 0  0 0 1  0 1 0\n"
+               "Camera \"perspective\" \"float fov\" [ 60 ]\n"
+               "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
+               "Sampler \"independent\"\n" +
+               integrator +
+               "\nWorldBegin\n"
+               "AttributeBegin\n"
+               "  ReverseOrientation\n"
+               "  AreaLightSource \"diffuse\" \"spectrum L\" [ 300 1 830 1 ]\n"
+               "  Material \"diffuse\" \"spectrum reflectance\" [ 300 0.5 830 0.5 ]\n"
+               "  Shape \"sphere\" \"float radius\" [ 1 ]\n"
+               "AttributeEnd\n";
+    };
+    const double series = 63.0 / 32.0;
+    const std::string base = "Integrator \"vcm\" \"float radius\" [ 0.1 ]";
+    for (const char* variant : {"", " \"bool vertexmerging\" false", " \"bool vertexconnection\" false"}) {
+        const std::string direct = scene(base + " \"integer maxdepth\" [ 0 ]" + variant);
+        const std::string full = scene(base + " \"integer maxdepth\" [ 5 ]" + variant);
+        constexpr int kReps = 6;
+        std::vector<double> ratio;
+        for (int r = 0; r < kReps; ++r) {
+            double a = 0, b = 0;
+            for (double v : render_seeded(full, 64, 50 + uint64_t(r)).y) a += v;
+            for (double v : render_seeded(direct, 64, 50 + uint64_t(r)).y) b += v;
+            ratio.push_back(a / b);
+        }
+        double mean = 0, var = 0;
+        for (double x : ratio) mean += x / kReps;
+        for (double x : ratio) var += sqr(x - mean) / (kReps - 1);
+        const double se = std::sqrt(var / kReps);
+        const bool merges = std::string(variant).find("vertexmerging") == std::string::npos;
+        EXPECT_NEAR(mean, series, 5 * se + (merges ? 0.01 * series : 0)) << variant;
+        // Precise enough for that to mean something.
+        EXPECT_LT(se, 0.003 * series) << variant;
+        if (debug())
+            std::fprintf(stderr, "sphere%s: %.5f +- %.5f, series %.5f\n", variant, mean, se, series);
+    }
+}
+
 // ---- the Cornell box -------------------------------------------------------------------------
 
 constexpr int kRes = 64, kBlock = 8;
