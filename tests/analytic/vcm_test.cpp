@@ -84,7 +84,8 @@ TEST(Vcm, SpecularDiffuseSpecularMatchesTheClosedForm) {
 // we allow that of the series. With N = 256 light paths and r = 0.1, eta = 8 and merging
 // takes most of the weight on these diffuse paths (the connections' ratio is about eta cos^2
 // / (pi d^2) ~ 2.5 per vertex), so its MIS weights against the connections' are what the
-// test checks; the connections alone and merging alone are checked too.
+// test checks; the connections alone and merging alone are checked too, and other counts of
+// light paths than one per pixel (which change eta and the light paths' splat scale).
 TEST(Vcm, InsideAGlowingSphereMatchesTheSeries) {
     auto scene = [](const std::string& integrator) {
         return "LookAt 0 0 0  0 0 1  0 1 0\n"
@@ -102,7 +103,10 @@ TEST(Vcm, InsideAGlowingSphereMatchesTheSeries) {
     };
     const double series = 63.0 / 32.0;
     const std::string base = "Integrator \"vcm\" \"float radius\" [ 0.1 ]";
-    for (const char* variant : {"", " \"bool vertexmerging\" false", " \"bool vertexconnection\" false"}) {
+    for (const char* variant :
+         {"", " \"bool vertexmerging\" false", " \"bool vertexconnection\" false",
+          // Fewer and more light paths than pixels (256).
+          " \"integer lightpathsperiteration\" [ 100 ]", " \"integer lightpathsperiteration\" [ 1000 ]"}) {
         const std::string direct = scene(base + " \"integer maxdepth\" [ 0 ]" + variant);
         const std::string full = scene(base + " \"integer maxdepth\" [ 5 ]" + variant);
         constexpr int kReps = 6;

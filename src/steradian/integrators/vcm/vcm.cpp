@@ -179,6 +179,11 @@ public:
     void start_iteration(Float radius, int64_t n_light, const SampledWavelengths& lambda) {
         m_radius = radius;
         m_n_light = n_light;
+        // A light path connected to the camera is one of N samples of the whole film's
+        // light tracing (importance is normalised to the full film): its splat is scaled by
+        // the full film's pixels over N.
+        const FilmParams& fp = m_film.params();
+        m_lt_factor = Float(double(fp.resolution.x) * double(fp.resolution.y) / double(n_light));
         m_lambda = lambda;
         const double eta = kPi * double(radius) * double(radius) * double(n_light);
         // Georgiev's mMisVmWeightFactor and mMisVcWeightFactor, the latter kept on when
@@ -325,7 +330,7 @@ public:
         // Eq. 31 with the light paths' count: a connection of a light path to the camera
         // (t = 1) is a strategy of N samples whose density per pixel is the full film's
         // pixel count times pdf_we's.
-        Float dvcm = mis(1 / (m_ctx.crop_factor * pdf_dir)), dvc = 0, dvm = 0;
+        Float dvcm = mis(1 / (m_lt_factor * pdf_dir)), dvc = 0, dvm = 0;
         const Float r2 = m_radius * m_radius;
         const int max_depth = m_ctx.max_depth;
         Ray ray = camera_ray;
@@ -486,13 +491,13 @@ private:
         const SampledSpectrum f = v.bsdf.f(v.wo, cs->wi, TransportMode::Importance);
         if (f.is_zero()) return;
         SampledSpectrum c =
-            v.beta * f * (absdot(cs->wi, v.bsdf.frame().n) * cs->we / cs->pdf * m_ctx.crop_factor);
+            v.beta * f * (absdot(cs->wi, v.bsdf.frame().n) * cs->we / cs->pdf * m_lt_factor);
         if (c.is_zero()) return;
         Float cam_pos = 0, cam_dir = 0;
         m_scene.camera->pdf_we(Ray{cs->p_lens, -cs->wi, kInfinity}, cam_pos, cam_dir);
         const Float d2 = length_squared(cs->p_lens - v.p);
         // The density (per pixel, area at v) of a camera path reaching v, over N.
-        const Float cam_a = m_ctx.crop_factor * cam_dir * absdot(v.ng, cs->wi) / d2;
+        const Float cam_a = m_lt_factor * cam_dir * absdot(v.ng, cs->wi) / d2;
         const Float rev = v.bsdf.pdf(cs->wi, v.wo, TransportMode::Radiance);
         const Float wl = mis(cam_a) * (m_vm_factor + v.dvcm + v.dvc * mis(rev));
         c *= 1 / (1 + wl);
@@ -599,6 +604,7 @@ private:
     bool m_connect, m_merge;
     Float m_radius = 1;
     int64_t m_n_light = 1;
+    Float m_lt_factor = 1;
     SampledWavelengths m_lambda;
     Float m_vm_factor = 0, m_vc_factor = 0, m_vc = 1, m_merge_norm = 0;
 };
@@ -622,11 +628,13 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
     const int iterations = render_samples_per_pixel(scene, opt);
     const int max_depth = scene.integrator.max_depth;
     const int stride = std::max(1, max_depth);
-    if (double(n_pixels) * stride * sizeof(LightVertex) > kMaxVertexBytes || n_pixels > INT32_MAX)
+    const int64_t n_light = vp.light_paths > 0 ? int64_t(vp.light_paths) : n_pixels;
+    if (double(n_light) * stride * sizeof(LightVertex) > kMaxVertexBytes || n_light > INT32_MAX)
         throw Error(fmt::format("{}: the light vertices of one iteration ({} light paths of up "
                                 "to {} vertices, {} bytes each) would take more than {} GiB; "
-                                "lower the resolution or \"maxdepth\"",
-                                kName, n_pixels, stride, sizeof(LightVertex),
+                                "lower \"lightpathsperiteration\" (or the resolution) or "
+                                "\"maxdepth\"",
+                                kName, n_light, stride, sizeof(LightVertex),
                                 kMaxVertexBytes / double(1 << 30)));
     const uint64_t cam_seed = scene.sampler.seed + opt.seed;
     const uint64_t light_seed = uint64_t(int64_t(vp.seed)) + opt.seed;
@@ -650,7 +658,7 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
             : make_sampler(scene.sampler.type, iterations, fp.resolution, cam_seed);
     // Light path k of iteration i: sample k of the pseudo-pixel (i, -1) (camera pixels have
     // y >= 0) of an Owen-scrambled Sobol sampler with N samples per pixel.
-    const PaddedSobolSampler light_proto(int(n_pixels), light_seed);
+    const PaddedSobolSampler light_proto(int(n_light), light_seed);
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         ThreadState t;
         t.cam_sampler = cam_proto->clone();
@@ -658,13 +666,13 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
         return t;
     });
 
-    std::vector<LightVertex> vertices(size_t(n_pixels) * size_t(stride));
-    std::vector<uint8_t> counts(size_t(n_pixels), 0);
+    std::vector<LightVertex> vertices(size_t(n_light) * size_t(stride));
+    std::vector<uint8_t> counts(size_t(n_light), 0);
     std::vector<uint32_t> stored;
     VertexGrid grid;
     std::vector<PixelSum> sums = film.make_buffer();
     std::vector<double> splat_sums = film.splat_buffer();
-    const int64_t n_chunks = (n_pixels + kLightChunk - 1) / kLightChunk;
+    const int64_t n_chunks = (n_light + kLightChunk - 1) / kLightChunk;
     const int64_t slab = std::max<int64_t>(16, 8 * threads);
     std::vector<std::vector<Splat>> chunk_splats(static_cast<size_t>(slab));
     std::vector<uint64_t> chunk_nonfinite(static_cast<size_t>(slab), 0);
@@ -674,7 +682,7 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
     const auto t0 = Clock::now();
     const double cpu0 = process_cpu_seconds();
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
-    Progress progress(opt.progress, uint64_t(iterations) * uint64_t(2 * n_pixels));
+    Progress progress(opt.progress, uint64_t(iterations) * uint64_t(n_light + n_pixels));
     const Filter& filter = *scene.filter;
 
     int done = 0;
@@ -686,7 +694,7 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
         const Float radius = Float(double(r1) * std::pow(double(iter + 1), (double(vp.alpha) - 1) / 2));
         const SampledWavelengths lambda =
             film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed));
-        vcm.start_iteration(radius, n_pixels, lambda);
+        vcm.start_iteration(radius, n_light, lambda);
 
         // ---- light pass, in slabs of chunks whose splats are added in chunk order ----------
         for (int64_t c0 = 0; c0 < n_chunks; c0 += slab) {
@@ -702,7 +710,7 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
                             out.clear();
                             bad = 0;
                             const int64_t k0 = c * kLightChunk;
-                            const int64_t k1 = std::min(n_pixels, k0 + kLightChunk);
+                            const int64_t k1 = std::min(n_light, k0 + kLightChunk);
                             for (int64_t k = k0; k < k1; ++k) {
                                 ts.light_sampler->start_pixel_sample(Vec2i(iter, -1), int(k));
                                 vcm.light_path(*ts.light_sampler, ts.counters,
@@ -724,7 +732,7 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
         // ---- the light vertices' grid ----------------------------------------------------------
         stored.clear();
         if (vp.merge)
-            for (int64_t k = 0; k < n_pixels; ++k)
+            for (int64_t k = 0; k < n_light; ++k)
                 for (int j = 0; j < counts[size_t(k)]; ++j)
                     stored.push_back(uint32_t(size_t(k) * size_t(stride) + size_t(j)));
         grid.build(vertices, stored, radius);
@@ -737,7 +745,8 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
                 for (int yy = r.begin(); yy < r.end(); ++yy) {
                     for (int xx = 0; xx < w; ++xx) {
                         const Vec2i pixel(fp.x0 + xx, fp.y0 + yy);
-                        const size_t k = size_t(yy) * size_t(w) + size_t(xx);
+                        // The light path this camera path connects to.
+                        const size_t k = (size_t(yy) * size_t(w) + size_t(xx)) % size_t(n_light);
                         sampler.start_pixel_sample(pixel, iter);
                         const FilterSample fs = filter.sample(sampler.get_pixel_2d());
                         const Point2 u_lens = sampler.get_2d();

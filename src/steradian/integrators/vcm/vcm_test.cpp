@@ -55,18 +55,21 @@ TEST(VcmParams, NamesAndDefaults) {
     EXPECT_EQ(d.integrator.vcm.radius, 0.0f);  // 0.003 x the scene's radius
     EXPECT_EQ(d.integrator.vcm.alpha, 0.75f);
     EXPECT_EQ(d.integrator.vcm.seed, 0);
+    EXPECT_EQ(d.integrator.vcm.light_paths, -1);
     EXPECT_TRUE(d.integrator.vcm.connect);
     EXPECT_TRUE(d.integrator.vcm.merge);
     EXPECT_EQ(d.integrator.light_sampler, "power");
     const Scene s = build(scene_with(
         "Integrator \"vcm\" \"integer maxdepth\" [ 3 ] \"float radius\" [ 0.25 ] "
-        "\"float radiusalpha\" [ 0.5 ] \"integer seed\" [ 7 ] \"bool vertexmerging\" false"));
+        "\"float radiusalpha\" [ 0.5 ] \"integer seed\" [ 7 ] \"bool vertexmerging\" false "
+        "\"integer lightpathsperiteration\" [ 1000 ]"));
     EXPECT_EQ(s.integrator.max_depth, 3);
     EXPECT_EQ(s.integrator.vcm.radius, 0.25f);
     EXPECT_EQ(s.integrator.vcm.alpha, 0.5f);
     EXPECT_EQ(s.integrator.vcm.seed, 7);
     EXPECT_TRUE(s.integrator.vcm.connect);
     EXPECT_FALSE(s.integrator.vcm.merge);
+    EXPECT_EQ(s.integrator.vcm.light_paths, 1000);
 }
 
 TEST(VcmParams, BadValuesAreLocated) {

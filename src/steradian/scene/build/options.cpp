@@ -398,6 +398,7 @@ void Builder::build_integrator(const EntityDesc& e) {
         VcmParams& v = is.vcm;
         v.radius = ps.get_float("radius", 0);
         v.alpha = ps.get_float("radiusalpha", v.alpha);
+        v.light_paths = ps.get_int("lightpathsperiteration", -1);
         v.seed = ps.get_int("seed", 0);
         v.connect = ps.get_bool("vertexconnection", true);
         v.merge = ps.get_bool("vertexmerging", true);
