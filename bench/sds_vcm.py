@@ -7,8 +7,9 @@ Each pixel that sees the lit floor through the mirror is compared with the close
 relative luminance errors. bdpt cannot sample these paths (error 1: it renders the floor
 black); sppm and vcm converge (vcm by merging, the only one of its strategies that can make
 these paths, with MIS weight 1 there). Both use the initial radius 0.05 of the scene; sppm
-traces the scene's 65536 photons per iteration, vcm one light path per pixel (4096), so an
-iteration of vcm is cheaper and the comparison is made at equal CPU time: for each run the
+traces the scene's 65536 photons per iteration, vcm one light path per pixel (4096, "vcm")
+or as many as sppm's photons ("vcm-65536", "integer lightpathsperiteration" [ 65536 ]), so
+iterations cost differently and the comparison is made at equal CPU time: for each run the
 error times sqrt(CPU seconds) (the error of one CPU second, if the error falls as
 1/sqrt(time)). CPU seconds are the renderer's user + system time (getrusage of the child).
 Each configuration is rendered RUNS times with different seeds and the MSEs averaged.
@@ -42,7 +43,9 @@ def main():
     i0, i1 = text.index('Integrator "sppm"'), text.index("WorldBegin")
     runs_list = [("bdpt", 'Integrator "bdpt" "integer maxdepth" [ 5 ]', 16),
                  ("sppm", text[i0:i1], sppm_iters)]
-    runs_list += [("vcm", 'Integrator "vcm" "integer maxdepth" [ 5 ] "float radius" [ 0.05 ]', n)
+    vcm = 'Integrator "vcm" "integer maxdepth" [ 5 ] "float radius" [ 0.05 ]'
+    runs_list += [("vcm", vcm, n) for n in vcm_iters]
+    runs_list += [("vcm-65536", vcm + ' "integer lightpathsperiteration" [ 65536 ]', n)
                   for n in vcm_iters]
     print(f"{'integrator':10} {'spp/iter':>8} {'CPU s':>8} {'RMS rel. block error':>22} "
           f"{'error x sqrt(CPU s)':>20}")
