@@ -222,7 +222,8 @@ TEST(Vcm, WithoutConnectionsIsPhotonMapping) {
 // The image does not depend on the number of threads: light vertices in fixed slots, merges
 // in the grid's order, splats added in light path order.
 TEST(Vcm, SameImageOnOneAndTwoThreads) {
-    for (const char* params : {"\"float radius\" [ 8 ]", "\"float radius\" [ 100 ]"}) {
+    for (const char* params : {"\"float radius\" [ 8 ]", "\"float radius\" [ 100 ]",
+                               "\"float radius\" [ 8 ] \"integer lightpathsperiteration\" [ 3000 ]"}) {
         const std::string text = cornell_box(
             std::string("Integrator \"vcm\" \"integer maxdepth\" [ 4 ] ") + params, 32);
         const Rendered a = render_seeded(text, 3, 1, 1), b = render_seeded(text, 3, 1, 2);
