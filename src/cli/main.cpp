@@ -562,11 +562,12 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
         radiosity =
             solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet || is_worker());
     // (Every process refuses alike, before any of them starts the distributed session.)
-    if (g_size > 1 && scene.integrator.type == "sppm")
-        throw sr::Error(fmt::format("{}: Integrator \"sppm\" does not run distributed: its "
-                                    "photon passes are not shared between processes; run it in "
-                                    "one process (docs/distributed.md)",
-                                    a.scene));
+    if (g_size > 1 && (scene.integrator.type == "sppm" || scene.integrator.type == "vcm"))
+        throw sr::Error(fmt::format("{}: Integrator \"{}\" does not run distributed: its {} "
+                                    "passes are not shared between processes; run it in one "
+                                    "process (docs/distributed.md)",
+                                    a.scene, scene.integrator.type,
+                                    scene.integrator.type == "sppm" ? "photon" : "light"));
     if (const int status = start_distributed(scene, a.threads, radiosity.get()); status >= 0)
         return status;
     std::optional<sr::WorkCoordinator> coord = make_coordinator();

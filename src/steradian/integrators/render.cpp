@@ -28,6 +28,7 @@
 #include "steradian/integrators/progress.h"
 #include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/integrators/sppm/sppm.h"
+#include "steradian/integrators/vcm/vcm.h"
 #include "steradian/scene/scene.h"
 
 namespace sr {
@@ -407,6 +408,7 @@ RenderStats render(const Scene& scene, Film& film, const RenderOptions& opt) {
     if (itype == "mlt") return render_mlt(scene, film, opt);
     const bool bidir = itype == "bdpt" || itype == "lightpath";
     if (itype == "sppm") return render_sppm(scene, film, opt);
+    if (itype == "vcm") return render_vcm(scene, film, opt);
     if (itype != "path" && itype != "radiosity" && !bidir)
         throw Error(fmt::format("integrator \"{}\" is not supported yet", itype));
     std::unique_ptr<RadiositySolution> own_radiosity;

@@ -62,10 +62,24 @@ struct SppmParams {
     int seed = 0;
 };
 
+/// "vcm" (a steradian extension; docs/vcm.md): the initial merge radius (world units; <= 0:
+/// 0.003 times the scene's bounding-sphere radius, SmallVCM's default), the radius reduction
+/// exponent alpha (r_i = r_1 i^((alpha - 1) / 2)), the light paths per iteration (<= 0: one
+/// per pixel of the crop window), their seed, and which of the two families of strategies
+/// are used.
+struct VcmParams {
+    Float radius = 0;
+    int light_paths = -1;
+    Float alpha = 0.75f;
+    int seed = 0;
+    bool connect = true, merge = true;
+};
+
 struct IntegratorSettings {
     std::string type = "path";
     RadiosityParams radiosity;
     SppmParams sppm;
+    VcmParams vcm;
     int max_depth = 5;
     LightStrategy strategy = LightStrategy::Mis;
     bool regularize = false;

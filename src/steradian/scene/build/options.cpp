@@ -405,6 +405,41 @@ void Builder::build_integrator(const EntityDesc& e) {
         is.light_sampler = "bvh";
         m_s.integrator = is;
         return;
+    } else if (type == "vcm") {
+        // A steradian extension (docs/vcm.md): vertex connection and merging, with the power
+        // light sampler (light paths and light samples choose lights alike).
+        is.max_depth = ps.get_int("maxdepth", 5);
+        VcmParams& v = is.vcm;
+        v.radius = ps.get_float("radius", 0);
+        v.alpha = ps.get_float("radiusalpha", v.alpha);
+        v.light_paths = ps.get_int("lightpathsperiteration", -1);
+        v.seed = ps.get_int("seed", 0);
+        v.connect = ps.get_bool("vertexconnection", true);
+        v.merge = ps.get_bool("vertexmerging", true);
+        auto at = [&](const char* name) {
+            const Param* p = ps.find(name);
+            return p ? p->loc : e.loc;
+        };
+        if (is.max_depth < 0) throw_error(at("maxdepth"), "maxdepth must be >= 0");
+        if (is.max_depth > 250)
+            throw_error(at("maxdepth"), "Integrator \"vcm\": \"maxdepth\" must be at most 250");
+        if (!(v.radius >= 0) || !std::isfinite(v.radius) || v.radius > 1e17f)
+            throw_error(at("radius"),
+                        "Integrator \"vcm\": \"radius\" must be a finite number >= 0 (the "
+                        "initial merge radius in world units; 0: 0.003 times the scene's "
+                        "bounding-sphere radius)");
+        if (!(v.alpha > 0 && v.alpha <= 1))
+            throw_error(at("radiusalpha"),
+                        "Integrator \"vcm\": \"radiusalpha\" must be in (0, 1] (the radius "
+                        "of iteration i is radius * i^((radiusalpha - 1) / 2))");
+        if (!v.connect && !v.merge)
+            throw_error(at("vertexmerging"), "Integrator \"vcm\": \"vertexconnection\" and "
+                                             "\"vertexmerging\" cannot both be false");
+        ps.check_unused("Integrator \"vcm\"");
+        is.type = type;
+        is.light_sampler = "power";
+        m_s.integrator = is;
+        return;
     } else if (type == "simplepath") {
         is.max_depth = ps.get_int("maxdepth", 5);
         bool lights = ps.get_bool("samplelights", true);

@@ -1,0 +1,811 @@
+#include "steradian/integrators/vcm/vcm.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "steradian/core/error.h"
+#include "steradian/integrators/bdpt/bdpt.h"
+#include "steradian/integrators/distributed.h"
+#include "steradian/integrators/integrator.h"
+#include "steradian/integrators/progress.h"
+#include "steradian/sampling/hash.h"
+#include "steradian/sampling/padded_sobol_sampler.h"
+#include "steradian/scene/scene.h"
+
+namespace sr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Light paths a task of the light pass traces (the unit of its ordered splat reduction).
+constexpr int64_t kLightChunk = 256;
+/// The most memory the stored light vertices of one iteration may take.
+constexpr double kMaxVertexBytes = 4.0 * (1 << 30);
+
+/// The power heuristic (exponent 2) applied to a density ratio: Georgiev's Mis().
+inline Float mis(Float x) { return x * x; }
+
+/// A stored vertex of a light path (SmallVCM's PathVertex): where it is, the path's
+/// throughput up to it (not including its BSDF), its BSDF and the MIS quantities of the
+/// light subpath that reached it (tech. report, eqs. 31-36; with the cosines and distances
+/// of the vertex itself applied).
+struct LightVertex {
+    Point3 p;
+    Vec3 p_error;
+    Normal3 ng;
+    Vec3 wo;  ///< unit, towards the previous vertex of the light path
+    SampledSpectrum beta{0};
+    Float dvcm = 0, dvc = 0, dvm = 0;
+    uint8_t length = 0;        ///< segments from the light
+    bool terminated = false;   ///< the path's secondary wavelengths were terminated
+    Bsdf bsdf;
+};
+
+/// A light vertex's connection to the camera as a film position and sensor values.
+struct Splat {
+    Point2 p;
+    std::array<double, 3> xyz;
+};
+
+/// The wavelength sample of iteration i (as sppm's passes take it): the base-3 radical
+/// inverse of i, rotated (Cranley-Patterson) by an offset hashed from the seed.
+Float pass_wavelength_sample(uint64_t i, uint64_t seed) {
+    double inv = 1.0 / 3, f = inv, r = 0;
+    while (i > 0) {
+        r += double(i % 3) * f;
+        i /= 3;
+        f *= inv;
+    }
+    r += double(mix_bits(seed ^ 0x56434d5f4c414d42ULL) >> 11) * 0x1.0p-53;
+    r -= std::floor(r);
+    return Float(std::min(r, 1 - 1e-7));
+}
+
+bool finite3(const std::array<double, 3>& v) {
+    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+/// The hash grid of the light vertices (SmallVCM's HashGrid): cells 2 r wide, each vertex
+/// in the cell of its position, the cells hashed to a power-of-two count of buckets, each
+/// bucket's vertices in index order (a counting sort). A query visits the buckets of the at
+/// most 2 x 2 x 2 cells its sphere meets, each bucket once.
+class VertexGrid {
+public:
+    void build(const std::vector<LightVertex>& v, const std::vector<uint32_t>& ids, Float r) {
+        m_items.clear();
+        m_start.assign(1, 0);
+        m_size = 0;
+        if (ids.empty()) return;
+        m_lo = v[ids[0]].p;
+        for (uint32_t i : ids) {
+            const Point3 p = v[i].p;
+            m_lo = Point3(std::min(m_lo.x, p.x), std::min(m_lo.y, p.y), std::min(m_lo.z, p.z));
+        }
+        m_inv_cell = 1 / (2 * double(r));
+        m_size = 1;
+        while (m_size < ids.size()) m_size <<= 1;
+        std::vector<uint32_t> count(m_size + 1, 0);
+        for (uint32_t i : ids) ++count[bucket_of(v[i].p) + 1];
+        for (size_t b = 0; b < m_size; ++b) count[b + 1] += count[b];
+        m_start = count;
+        m_items.resize(ids.size());
+        for (uint32_t i : ids) m_items[count[bucket_of(v[i].p)]++] = i;
+    }
+
+    /// Calls fn(vertex index) for every vertex whose cell may lie within r of p (the
+    /// caller tests the distance), in a fixed order.
+    template <typename Fn>
+    void query(Point3 p, Float r, Fn&& fn) const {
+        if (m_size == 0) return;
+        int64_t lo[3], hi[3];
+        const double c[3] = {double(p.x) - double(m_lo.x), double(p.y) - double(m_lo.y),
+                             double(p.z) - double(m_lo.z)};
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = cell((c[k] - double(r)) * m_inv_cell);
+            hi[k] = cell((c[k] + double(r)) * m_inv_cell);
+        }
+        uint32_t buckets[27];
+        int n = 0;
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+            for (int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (int64_t x = lo[0]; x <= hi[0]; ++x)
+                    if (n < 27) buckets[n++] = bucket(x, y, z);
+        std::sort(buckets, buckets + n);
+        n = int(std::unique(buckets, buckets + n) - buckets);
+        for (int i = 0; i < n; ++i)
+            for (uint32_t j = m_start[buckets[i]]; j < m_start[buckets[i] + 1]; ++j) fn(m_items[j]);
+    }
+
+private:
+    static int64_t cell(double t) {
+        return int64_t(std::clamp(std::floor(t), -double(int64_t(1) << 40), double(int64_t(1) << 40)));
+    }
+    uint32_t bucket(int64_t x, int64_t y, int64_t z) const {
+        const uint64_t h =
+            hash_combine(hash_combine(mix_bits(uint64_t(x)), uint64_t(y)), uint64_t(z));
+        return uint32_t(h & (m_size - 1));
+    }
+    uint32_t bucket_of(Point3 p) const {
+        return bucket(cell((double(p.x) - double(m_lo.x)) * m_inv_cell),
+                      cell((double(p.y) - double(m_lo.y)) * m_inv_cell),
+                      cell((double(p.z) - double(m_lo.z)) * m_inv_cell));
+    }
+
+    Point3 m_lo;
+    double m_inv_cell = 1;
+    size_t m_size = 0;
+    std::vector<uint32_t> m_start, m_items;
+};
+
+struct ThreadState {
+    std::unique_ptr<Sampler> cam_sampler, light_sampler;
+    PathCounters counters;
+    uint64_t nonfinite = 0;
+};
+
+bool is_infinite_light(const Light& l) {
+    return std::holds_alternative<DistantLight>(l) || std::holds_alternative<UniformInfiniteLight>(l) ||
+           std::holds_alternative<ImageInfiniteLight>(l);
+}
+
+/// The complete solid-angle density of sample_li() of an infinite light choosing the
+/// direction w (towards the light) at p.
+Float infinite_pdf_li(const Light& l, Point3 p, Vec3 w) {
+    if (const auto* u = std::get_if<UniformInfiniteLight>(&l)) return u->pdf_li({}, w);
+    if (const auto* im = std::get_if<ImageInfiniteLight>(&l))
+        return im->pdf_li(LightSampleContext{p, {0, 0, 0}, {0, 0, 0}}, w, false);
+    return 0;
+}
+
+/// The estimator: settings of a render and the kernels of both passes.
+class Vcm {
+public:
+    Vcm(const Scene& scene, const Film& film, const BidirContext& ctx, bool connect, bool merge)
+        : m_scene(scene), m_film(film), m_ctx(ctx), m_mctx(scene.material_context()),
+          m_connect(connect), m_merge(merge) {}
+
+    /// Per iteration: the merge radius, the light paths' count and wavelengths.
+    void start_iteration(Float radius, int64_t n_light, const SampledWavelengths& lambda) {
+        m_radius = radius;
+        m_n_light = n_light;
+        // A light path connected to the camera is one of N samples of the whole film's
+        // light tracing (importance is normalised to the full film): its splat is scaled by
+        // the full film's pixels over N.
+        const FilmParams& fp = m_film.params();
+        m_lt_factor = Float(double(fp.resolution.x) * double(fp.resolution.y) / double(n_light));
+        m_lambda = lambda;
+        const double eta = kPi * double(radius) * double(radius) * double(n_light);
+        // Georgiev's mMisVmWeightFactor and mMisVcWeightFactor, the latter kept on when
+        // connections are off: it also relates merging to the camera paths that hit
+        // emitters, which are always on (the connections' own terms are switched off by
+        // m_vc where they occur).
+        m_vm_factor = m_merge ? Float(eta * eta) : 0;
+        m_vc_factor = Float(1 / (eta * eta));
+        m_vc = m_connect ? 1 : 0;
+        m_merge_norm = 1 / eta;
+    }
+
+    /// Light path `index`: its stored vertices in out[0, count) and, with connections on,
+    /// its connections to the camera in `splats` (in vertex order).
+    void light_path(Sampler& sampler, PathCounters& counters, LightVertex* out, uint8_t& count,
+                    std::vector<Splat>& splats, uint64_t& nonfinite) const {
+        count = 0;
+        const Float ul = sampler.get_pixel_1d();
+        const Point2 u_pos = sampler.get_pixel_2d();
+        const Point2 u_dir = sampler.get_2d();
+        const int max_depth = m_ctx.max_depth;
+        if (max_depth < 1 || m_scene.light_sampler.empty()) return;
+        Float pmf = 0;
+        const int li = m_scene.light_sampler.sample(ul, pmf);
+        if (li < 0 || !(pmf > 0)) return;
+        const Light& light = m_scene.lights[size_t(li)];
+        SampledWavelengths lambda = m_lambda;
+        auto les = sample_le(light, u_pos, u_dir, lambda);
+        if (!les || !(les->pdf_pos > 0) || !(les->pdf_dir > 0) || les->L.is_zero()) return;
+        const bool delta_pos = light_delta_position(light), delta_dir = light_delta_direction(light);
+        const bool infinite = is_infinite_light(light);
+        const bool on_surface = les->n.x != 0 || les->n.y != 0 || les->n.z != 0;
+        const Float cos0 = on_surface ? absdot(les->n, les->ray.d) : 1;
+        const Float emission = pmf * les->pdf_pos * les->pdf_dir;
+        SampledSpectrum beta = les->L * (cos0 / emission);
+        // The origin's dVC (eq. 32: cos / emission density; zero for a delta light, which
+        // no path from the camera can reach) and dVM = dVC / eta.
+        const Float dvc0 = delta_pos || delta_dir ? 0 : mis(cos0 / emission);
+        Float dvcm = 0, dvc = 0, dvm = 0;
+        Ray ray = les->ray;
+        Point3 prev = les->p;
+        int length = 0, crossings = 0;
+        while (true) {
+            SurfaceHit hit;
+            ++counters.rays;
+            if (!m_scene.intersect(ray, hit)) break;
+            std::optional<Bsdf> bsdf =
+                hit.material >= 0
+                    ? make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda)
+                    : std::nullopt;
+            if (!bsdf) {
+                if (++crossings > 256) break;
+                ray = spawn_ray(hit, ray.d);
+                continue;
+            }
+            ++length;
+            const Float cos_in = absdot(hit.ng, hit.wo);
+            if (!(cos_in > 0)) break;
+            if (length == 1) {
+                // dVCM at the first vertex: the density with which a light sample taken
+                // here picks the light's point over the density of the emitted ray (both in
+                // area measure here; the light's choice cancels).
+                const Float d2 = length_squared(hit.p - prev);
+                Float nee_over_emit = 0;
+                if (delta_pos)
+                    nee_over_emit = d2 / (les->pdf_dir * cos_in);
+                else if (delta_dir)
+                    nee_over_emit = 1 / (les->pdf_pos * cos_in);
+                else if (infinite)
+                    nee_over_emit = infinite_pdf_li(light, hit.p, -les->ray.d) /
+                                    (les->pdf_pos * les->pdf_dir * cos_in);
+                else if (const auto* area = std::get_if<DiffuseAreaLight>(&light))
+                    nee_over_emit = area->pdf_li_point(LightSampleContext{hit.p, hit.p_error, hit.ng},
+                                                       les->p, les->n) *
+                                    cos0 / (les->pdf_pos * les->pdf_dir * cos_in);
+                dvcm = mis(nee_over_emit);
+                dvc = dvc0 / mis(cos_in);
+                dvm = dvc * m_vc_factor;
+            } else {
+                const Float d2 = length_squared(hit.p - prev);
+                dvcm *= mis(d2) / mis(cos_in);
+                dvc /= mis(cos_in);
+                dvm /= mis(cos_in);
+            }
+            const bool stored = bsdf->has_non_specular();
+            // The camera connection's numbers, drawn whether or not it is made.
+            const Point2 u_cam = m_connect ? sampler.get_2d() : Point2(0.5f, 0.5f);
+            if (stored) {
+                LightVertex& v = out[count++];
+                v.p = hit.p;
+                v.p_error = hit.p_error;
+                v.ng = hit.ng;
+                v.wo = hit.wo;
+                v.beta = beta;
+                v.dvcm = dvcm;
+                v.dvc = dvc;
+                v.dvm = dvm;
+                v.length = uint8_t(length);
+                v.terminated = lambda.secondary_terminated();
+                v.bsdf = *bsdf;
+                if (m_connect) connect_to_camera(v, u_cam, lambda, counters, splats, nonfinite);
+            }
+            if (length >= max_depth) break;
+            const Float uc = sampler.get_1d();
+            const Point2 u = sampler.get_2d();
+            auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Importance);
+            if (!bs) break;
+            const Float cos_out = absdot(hit.ng, bs->wi);
+            beta *= bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
+            if (beta.is_zero() || beta.has_nonfinite()) break;
+            update_scattering(*bsdf, hit.wo, *bs, cos_out, TransportMode::Radiance, dvcm, dvc, dvm);
+            prev = hit.p;
+            ray = spawn_ray(hit, bs->wi);
+        }
+    }
+
+    /// The camera path of one pixel sample: its estimate (s = 0, s = 1, connections to
+    /// `light` (its own light path's vertices), merges with the grid's vertices).
+    SampledSpectrum camera_path(const Ray& camera_ray, Sampler& sampler, PathCounters& counters,
+                                const LightVertex* light, int n_light,
+                                const std::vector<LightVertex>& all, const VertexGrid& grid,
+                                SampledWavelengths& lambda_out) const {
+        SampledWavelengths lambda = m_lambda;
+        SampledSpectrum L(0), L_term(0);  // with the full / the terminated wavelengths
+        auto add = [&](const SampledSpectrum& c, bool other_terminated) {
+            if (other_terminated || lambda.secondary_terminated())
+                L_term += c;
+            else
+                L += c;
+        };
+        auto finish = [&] {
+            // Contributions with the terminated wavelengths carry the hero alone, whose pdf
+            // terminate_secondary() divided by their count (the others' pdfs are zero):
+            // expressed at the full wavelengths, the hero's value times that count.
+            lambda_out = m_lambda;
+            SampledSpectrum out = L;
+            out[0] += L_term[0] * Float(kSpectrumSamples);
+            return out;
+        };
+        Float pdf_pos = 0, pdf_dir = 0;
+        m_scene.camera->pdf_we(camera_ray, pdf_pos, pdf_dir);
+        if (!(pdf_dir > 0)) return finish();
+        SampledSpectrum beta(1);
+        // Eq. 31 with the light paths' count: a connection of a light path to the camera
+        // (t = 1) is a strategy of N samples whose density per pixel is the full film's
+        // pixel count times pdf_we's.
+        Float dvcm = mis(1 / (m_lt_factor * pdf_dir)), dvc = 0, dvm = 0;
+        const Float r2 = m_radius * m_radius;
+        const int max_depth = m_ctx.max_depth;
+        Ray ray = camera_ray;
+        Point3 prev = camera_ray.o;
+        LightSampleContext prev_ctx{camera_ray.o, {0, 0, 0}, {0, 0, 0}};
+        int length = 0, crossings = 0;
+        while (true) {
+            SurfaceHit hit;
+            ++counters.rays;
+            if (!m_scene.intersect(ray, hit)) {
+                for (int li : m_scene.infinite_lights) {
+                    const Light& l = m_scene.lights[size_t(li)];
+                    Float pdf_sa = 0;
+                    const SampledSpectrum le = infinite_le(l, ray, lambda, &pdf_sa, false);
+                    if (le.is_zero()) continue;
+                    Float w = 1;
+                    if (length > 0) {
+                        const Float pmf = m_scene.light_sampler.pmf(li);
+                        Float ppos = 0, pdir = 0;
+                        pdf_le(l, ray.o, Normal3(0, 0, 0), -ray.d, ppos, pdir);
+                        const Float wc = m_vc * mis(pmf * pdf_sa) * dvcm + mis(pmf * ppos * pdir) * dvc;
+                        w = 1 / (1 + wc);
+                    }
+                    add(beta * le * w, false);
+                }
+                break;
+            }
+            std::optional<Bsdf> bsdf =
+                hit.material >= 0
+                    ? make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda)
+                    : std::nullopt;
+            if (!bsdf) {
+                if (++crossings > 256) break;
+                ray = spawn_ray(hit, ray.d);
+                continue;
+            }
+            ++length;
+            const Float cos_in = absdot(hit.ng, hit.wo);
+            if (!(cos_in > 0)) break;
+            const Float d2 = length_squared(hit.p - prev);
+            dvcm *= mis(d2) / mis(cos_in);
+            dvc /= mis(cos_in);
+            dvm /= mis(cos_in);
+
+            // s = 0: an emitter found by the camera path.
+            if (hit.light >= 0) {
+                const Light& l = m_scene.lights[size_t(hit.light)];
+                const SampledSpectrum le = light_emitted(l, hit.p, hit.ng, hit.wo, lambda);
+                if (!le.is_zero()) {
+                    Float w = 1;
+                    if (length > 1) {
+                        const Float pmf = m_scene.light_sampler.pmf(hit.light);
+                        Float ppos = 0, pdir = 0;
+                        pdf_le(l, hit.p, hit.ng, hit.wo, ppos, pdir);
+                        Float nee_sa = 0;
+                        if (const auto* area = std::get_if<DiffuseAreaLight>(&l))
+                            nee_sa = area->pdf_li_point(prev_ctx, hit.p, hit.ng);
+                        const Float direct_a = pmf * nee_sa * cos_in / d2;
+                        const Float wc = m_vc * mis(direct_a) * dvcm + mis(pmf * ppos * pdir) * dvc;
+                        w = 1 / (1 + wc);
+                    }
+                    add(beta * le * w, false);
+                }
+            }
+            if (length > max_depth) break;
+
+            const bool non_specular = bsdf->has_non_specular();
+            const Float ul = sampler.get_1d();
+            const Point2 u_light = sampler.get_2d();
+            if (non_specular && m_connect) {
+                // s = 1: a light sample.
+                if (length < max_depth + 1)
+                    add(sample_light(hit, *bsdf, beta, dvcm, dvc, ul, u_light, lambda, counters),
+                        false);
+                // Vertex connection with this pixel's light path.
+                for (int j = 0; j < n_light; ++j) {
+                    const LightVertex& v = light[j];
+                    if (int(v.length) + length > max_depth) continue;
+                    const SampledSpectrum c = connect(hit, *bsdf, beta, dvcm, dvc, v, counters);
+                    if (!c.is_zero()) add(c, v.terminated);
+                }
+            }
+            if (non_specular && m_merge) {
+                // Vertex merging with every light vertex within the radius.
+                SampledSpectrum sum(0), sum_term(0);
+                grid.query(hit.p, m_radius, [&](uint32_t i) {
+                    const LightVertex& v = all[i];
+                    if (int(v.length) + length > max_depth + 1) return;
+                    if (length_squared(v.p - hit.p) > r2) return;
+                    const Bsdf::Eval e = bsdf->evaluate(hit.wo, v.wo);
+                    if (e.f.is_zero()) return;
+                    const Float rev = bsdf->pdf(v.wo, hit.wo, TransportMode::Importance);
+                    // Eqs. 38-39.
+                    const Float wl = m_vc * v.dvcm * m_vc_factor + v.dvm * mis(e.pdf_sa);
+                    const Float wc = m_vc * dvcm * m_vc_factor + dvm * mis(rev);
+                    const SampledSpectrum c = e.f * v.beta * (1 / (1 + wl + wc));
+                    if (v.terminated)
+                        sum_term += c;
+                    else
+                        sum += c;
+                });
+                if (!sum.is_zero()) add(beta * sum * m_merge_norm, false);
+                if (!sum_term.is_zero()) add(beta * sum_term * m_merge_norm, true);
+            }
+
+            // Extend the path.
+            const Float uc = sampler.get_1d();
+            const Point2 u = sampler.get_2d();
+            if (length > max_depth) break;
+            auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Radiance);
+            if (!bs) break;
+            const Float cos_out = absdot(hit.ng, bs->wi);
+            beta *= bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
+            if (beta.is_zero() || beta.has_nonfinite()) break;
+            update_scattering(*bsdf, hit.wo, *bs, cos_out, TransportMode::Importance, dvcm, dvc, dvm);
+            prev = hit.p;
+            prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
+            ray = spawn_ray(hit, bs->wi);
+        }
+        return finish();
+    }
+
+private:
+    /// Eqs. 34-36 of the report (SmallVCM's SampleScattering): the MIS quantities after a
+    /// vertex sampled its next direction; rev_mode is the other subpath's transport mode.
+    void update_scattering(const Bsdf& bsdf, Vec3 wo, const BsdfSample& bs, Float cos_out,
+                           TransportMode rev_mode, Float& dvcm, Float& dvc, Float& dvm) const {
+        if (bs.is_specular()) {
+            // The densities of both directions are the lobe's probability: their ratio is 1.
+            dvcm = 0;
+            dvc *= mis(cos_out);
+            dvm *= mis(cos_out);
+            return;
+        }
+        const Float rev = bsdf.pdf(bs.wi, wo, rev_mode);
+        const Float g = mis(cos_out / bs.pdf_sa);
+        dvc = g * (dvc * mis(rev) + m_vc * dvcm + m_vm_factor);
+        dvm = g * (dvm * mis(rev) + m_vc * dvcm * m_vc_factor + 1);
+        dvcm = mis(1 / bs.pdf_sa);
+    }
+
+    /// Whether nothing blocks the segment between two points (b at infinity: along dir).
+    bool unoccluded(Point3 a, Vec3 a_err, Normal3 a_n, Point3 b, Vec3 b_err, Normal3 b_n,
+                    PathCounters& counters) const {
+        ++counters.rays;
+        const Point3 o = offset_ray_origin(a, a_err, a_n, b - a);
+        const Point3 t = offset_ray_origin(b, b_err, b_n, o - b);
+        return !m_scene.occluded(Ray{o, t - o, 1 - Float(1e-4)});
+    }
+
+    /// t = 1: light vertex v connected to the camera (eq. 44 and SmallVCM's
+    /// ConnectToCamera), its splat appended to `splats`.
+    void connect_to_camera(const LightVertex& v, Point2 u, const SampledWavelengths& lambda,
+                           PathCounters& counters, std::vector<Splat>& splats,
+                           uint64_t& nonfinite) const {
+        auto cs = m_scene.camera->sample_wi(v.p, u);
+        if (!cs || !(cs->pdf > 0) || !m_ctx.inside(cs->p_raster)) return;
+        const SampledSpectrum f = v.bsdf.f(v.wo, cs->wi, TransportMode::Importance);
+        if (f.is_zero()) return;
+        SampledSpectrum c =
+            v.beta * f * (absdot(cs->wi, v.bsdf.frame().n) * cs->we / cs->pdf * m_lt_factor);
+        if (c.is_zero()) return;
+        Float cam_pos = 0, cam_dir = 0;
+        m_scene.camera->pdf_we(Ray{cs->p_lens, -cs->wi, kInfinity}, cam_pos, cam_dir);
+        const Float d2 = length_squared(cs->p_lens - v.p);
+        // The density (per pixel, area at v) of a camera path reaching v, over N.
+        const Float cam_a = m_lt_factor * cam_dir * absdot(v.ng, cs->wi) / d2;
+        const Float rev = v.bsdf.pdf(cs->wi, v.wo, TransportMode::Radiance);
+        const Float wl = mis(cam_a) * (m_vm_factor + v.dvcm + v.dvc * mis(rev));
+        c *= 1 / (1 + wl);
+        if (!unoccluded(v.p, v.p_error, v.ng, cs->p_lens, {0, 0, 0}, cs->n_lens, counters)) return;
+        SampledWavelengths lw = lambda;
+        if (v.terminated) lw.terminate_secondary();
+        std::array<double, 3> xyz{0, 0, 0};
+        bool finite = !c.has_nonfinite();
+        if (finite) {
+            xyz = m_film.to_sensor(c, lw);
+            finite = finite3(xyz);
+        }
+        if (!finite) {
+            ++nonfinite;
+            return;
+        }
+        if (xyz[0] == 0 && xyz[1] == 0 && xyz[2] == 0) return;
+        splats.push_back({cs->p_raster, xyz});
+    }
+
+    /// s = 1 (eqs. 40-41, SmallVCM's DirectIllumination).
+    SampledSpectrum sample_light(const SurfaceHit& hit, const Bsdf& bsdf, const SampledSpectrum& beta,
+                                 Float dvcm, Float dvc, Float ul, Point2 u,
+                                 const SampledWavelengths& lambda, PathCounters& counters) const {
+        if (m_scene.light_sampler.empty()) return SampledSpectrum(0);
+        Float pmf = 0;
+        const int li = m_scene.light_sampler.sample(ul, pmf);
+        if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
+        const Light& light = m_scene.lights[size_t(li)];
+        auto ls = sample_li(light, LightSampleContext{hit.p, hit.p_error, hit.ng}, u, lambda, false);
+        if (!ls || ls->L.is_zero() || !(ls->pdf_sa > 0)) return SampledSpectrum(0);
+        const Bsdf::Eval e = bsdf.evaluate(hit.wo, ls->wi);
+        if (e.f.is_zero()) return SampledSpectrum(0);
+        const Float cos_shading = absdot(ls->wi, bsdf.frame().n);
+        SampledSpectrum c = beta * e.f * ls->L * (cos_shading / (pmf * ls->pdf_sa));
+        if (c.is_zero()) return c;
+        const bool delta_pos = light_delta_position(light), delta_dir = light_delta_direction(light);
+        const Float cos_x = absdot(hit.ng, ls->wi);
+        // The density of the light path's emission making this segment, over the light
+        // sample's (both at this vertex; the light's choice cancels).
+        Float ppos = 0, pdir = 0;
+        pdf_le(light, ls->p_light, ls->n_light, -ls->wi, ppos, pdir);
+        Float emit_over_nee = 0;
+        if (delta_pos) {
+            emit_over_nee = pdir * cos_x / length_squared(ls->p_light - hit.p);
+        } else if (delta_dir) {
+            emit_over_nee = ppos * cos_x;
+        } else if (ls->at_infinity) {
+            emit_over_nee = ppos * pdir * cos_x / ls->pdf_sa;
+        } else {
+            const Float cos_l = absdot(ls->n_light, ls->wi);
+            emit_over_nee = cos_l > 0 ? ppos * pdir * cos_x / (ls->pdf_sa * cos_l) : 0;
+        }
+        const Float bsdf_dir = delta_pos || delta_dir ? 0 : e.pdf_sa;
+        const Float rev = bsdf.pdf(ls->wi, hit.wo, TransportMode::Importance);
+        const Float wl = mis(bsdf_dir / (pmf * ls->pdf_sa));
+        const Float wc = mis(emit_over_nee) * (m_vm_factor + dvcm + dvc * mis(rev));
+        c *= 1 / (1 + wl + wc);
+        ++counters.rays;
+        bool visible;
+        if (ls->at_infinity) {
+            const Point3 o = offset_ray_origin(hit.p, hit.p_error, hit.ng, ls->wi);
+            visible = !m_scene.occluded(Ray{o, ls->wi, kInfinity});
+        } else {
+            --counters.rays;
+            visible = unoccluded(hit.p, hit.p_error, hit.ng, ls->p_light, ls->p_error, ls->n_light,
+                                 counters);
+        }
+        return visible ? c : SampledSpectrum(0);
+    }
+
+    /// Vertex connection (eqs. 42-43, SmallVCM's ConnectVertices).
+    SampledSpectrum connect(const SurfaceHit& hit, const Bsdf& bsdf, const SampledSpectrum& beta,
+                            Float dvcm, Float dvc, const LightVertex& v,
+                            PathCounters& counters) const {
+        Vec3 d = v.p - hit.p;
+        const Float d2 = length_squared(d);
+        if (!(d2 > 0)) return SampledSpectrum(0);
+        d = d / std::sqrt(d2);
+        const Bsdf::Eval ec = bsdf.evaluate(hit.wo, d);
+        if (ec.f.is_zero()) return SampledSpectrum(0);
+        const SampledSpectrum fl = v.bsdf.f(v.wo, -d, TransportMode::Importance);
+        if (fl.is_zero()) return SampledSpectrum(0);
+        const Float g = absdot(d, bsdf.frame().n) * absdot(d, v.bsdf.frame().n) / d2;
+        SampledSpectrum c = beta * ec.f * fl * v.beta * g;
+        if (c.is_zero()) return c;
+        const Float cam_rev = bsdf.pdf(d, hit.wo, TransportMode::Importance);
+        const Float light_dir = v.bsdf.pdf(v.wo, -d, TransportMode::Importance);
+        const Float light_rev = v.bsdf.pdf(-d, v.wo, TransportMode::Radiance);
+        const Float cam_dir_a = ec.pdf_sa * absdot(v.ng, d) / d2;
+        const Float light_dir_a = light_dir * absdot(hit.ng, d) / d2;
+        const Float wl = mis(cam_dir_a) * (m_vm_factor + v.dvcm + v.dvc * mis(light_rev));
+        const Float wc = mis(light_dir_a) * (m_vm_factor + dvcm + dvc * mis(cam_rev));
+        c *= 1 / (1 + wl + wc);
+        if (!unoccluded(hit.p, hit.p_error, hit.ng, v.p, v.p_error, v.ng, counters))
+            return SampledSpectrum(0);
+        return c;
+    }
+
+    const Scene& m_scene;
+    const Film& m_film;
+    const BidirContext& m_ctx;
+    const MaterialContext m_mctx;
+    bool m_connect, m_merge;
+    Float m_radius = 1;
+    int64_t m_n_light = 1;
+    Float m_lt_factor = 1;
+    SampledWavelengths m_lambda;
+    Float m_vm_factor = 0, m_vc_factor = 0, m_vc = 1, m_merge_norm = 0;
+};
+
+}  // namespace
+
+RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
+    const char* kName = "Integrator \"vcm\"";
+    check_bidir_scene(scene, "vcm");
+    if (film.has_aux()) throw Error(fmt::format("{}: only the \"rgb\" film is supported yet", kName));
+    if (opt.checkpoint || opt.resume)
+        throw Error(fmt::format("{}: checkpoints are not supported yet", kName));
+    if (opt.distribute && opt.distribute->workers() > 0)
+        throw Error(fmt::format("{}: distributed rendering (steradian-mpi with more than one "
+                                "process) is not supported yet; run it in one process",
+                                kName));
+    const VcmParams& vp = scene.integrator.vcm;
+    const FilmParams& fp = film.params();
+    const int w = fp.width(), h = fp.height();
+    const int64_t n_pixels = int64_t(w) * int64_t(h);
+    const int iterations = render_samples_per_pixel(scene, opt);
+    const int max_depth = scene.integrator.max_depth;
+    const int stride = std::max(1, max_depth);
+    const int64_t n_light = vp.light_paths > 0 ? int64_t(vp.light_paths) : n_pixels;
+    if (double(n_light) * stride * sizeof(LightVertex) > kMaxVertexBytes || n_light > INT32_MAX)
+        throw Error(fmt::format("{}: the light vertices of one iteration ({} light paths of up "
+                                "to {} vertices, {} bytes each) would take more than {} GiB; "
+                                "lower \"lightpathsperiteration\" (or the resolution) or "
+                                "\"maxdepth\"",
+                                kName, n_light, stride, sizeof(LightVertex),
+                                kMaxVertexBytes / double(1 << 30)));
+    const uint64_t cam_seed = scene.sampler.seed + opt.seed;
+    const uint64_t light_seed = uint64_t(int64_t(vp.seed)) + opt.seed;
+    // The initial radius: the scene's, or SmallVCM's default of 0.003 times the radius of
+    // the scene's bounding sphere.
+    Float r1 = vp.radius;
+    if (!(r1 > 0)) r1 = Float(0.003 * 0.5 * double(length(scene.bounds.hi - scene.bounds.lo)));
+    if (!(r1 > 0) || !std::isfinite(r1)) r1 = 1e-3f;
+
+    const int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    tbb::task_arena arena(threads);
+
+    BidirContext ctx(scene);
+    Vcm vcm(scene, film, ctx, vp.connect, vp.merge);
+
+    std::unique_ptr<Sampler> cam_proto =
+        scene.sampler.type == "stratified"
+            ? make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
+                                      scene.sampler.jitter, cam_seed)
+            : make_sampler(scene.sampler.type, iterations, fp.resolution, cam_seed);
+    // Light path k of iteration i: sample k of the pseudo-pixel (i, -1) (camera pixels have
+    // y >= 0) of an Owen-scrambled Sobol sampler with N samples per pixel.
+    const PaddedSobolSampler light_proto(int(n_light), light_seed);
+    tbb::enumerable_thread_specific<ThreadState> states([&] {
+        ThreadState t;
+        t.cam_sampler = cam_proto->clone();
+        t.light_sampler = light_proto.clone();
+        return t;
+    });
+
+    std::vector<LightVertex> vertices(size_t(n_light) * size_t(stride));
+    std::vector<uint8_t> counts(size_t(n_light), 0);
+    std::vector<uint32_t> stored;
+    VertexGrid grid;
+    std::vector<PixelSum> sums = film.make_buffer();
+    std::vector<double> splat_sums = film.splat_buffer();
+    const int64_t n_chunks = (n_light + kLightChunk - 1) / kLightChunk;
+    const int64_t slab = std::max<int64_t>(16, 8 * threads);
+    std::vector<std::vector<Splat>> chunk_splats(static_cast<size_t>(slab));
+    std::vector<uint64_t> chunk_nonfinite(static_cast<size_t>(slab), 0);
+    uint64_t nonfinite = 0;
+
+    RenderStats stats;
+    const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    Progress progress(opt.progress, uint64_t(iterations) * uint64_t(n_light + n_pixels));
+    const Filter& filter = *scene.filter;
+
+    int done = 0;
+    while (done < iterations) {
+        const double iter_t0 = elapsed();
+        const int iter = done;
+        // r_i = r_1 i^((alpha - 1) / 2), i from 1 (Knaus and Zwicker 2011; Georgiev et al.
+        // 2012, sec. 5).
+        const Float radius = Float(double(r1) * std::pow(double(iter + 1), (double(vp.alpha) - 1) / 2));
+        const SampledWavelengths lambda =
+            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed));
+        vcm.start_iteration(radius, n_light, lambda);
+
+        // ---- light pass, in slabs of chunks whose splats are added in chunk order ----------
+        for (int64_t c0 = 0; c0 < n_chunks; c0 += slab) {
+            const int64_t c1 = std::min(n_chunks, c0 + slab);
+            arena.execute([&] {
+                tbb::parallel_for(
+                    tbb::blocked_range<int64_t>(c0, c1, 1),
+                    [&](const tbb::blocked_range<int64_t>& r) {
+                        ThreadState& ts = states.local();
+                        for (int64_t c = r.begin(); c < r.end(); ++c) {
+                            std::vector<Splat>& out = chunk_splats[size_t(c - c0)];
+                            uint64_t& bad = chunk_nonfinite[size_t(c - c0)];
+                            out.clear();
+                            bad = 0;
+                            const int64_t k0 = c * kLightChunk;
+                            const int64_t k1 = std::min(n_light, k0 + kLightChunk);
+                            for (int64_t k = k0; k < k1; ++k) {
+                                ts.light_sampler->start_pixel_sample(Vec2i(iter, -1), int(k));
+                                vcm.light_path(*ts.light_sampler, ts.counters,
+                                               vertices.data() + size_t(k) * size_t(stride),
+                                               counts[size_t(k)], out, bad);
+                            }
+                            progress.add(uint64_t(k1 - k0));
+                        }
+                    },
+                    tbb::simple_partitioner());
+            });
+            for (int64_t c = c0; c < c1; ++c) {
+                nonfinite += chunk_nonfinite[size_t(c - c0)];
+                for (const Splat& s : chunk_splats[size_t(c - c0)])
+                    film.add_splat(splat_sums, s.p, s.xyz, filter);
+            }
+        }
+
+        // ---- the light vertices' grid ----------------------------------------------------------
+        stored.clear();
+        if (vp.merge)
+            for (int64_t k = 0; k < n_light; ++k)
+                for (int j = 0; j < counts[size_t(k)]; ++j)
+                    stored.push_back(uint32_t(size_t(k) * size_t(stride) + size_t(j)));
+        grid.build(vertices, stored, radius);
+
+        // ---- camera pass -------------------------------------------------------------------------
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& r) {
+                ThreadState& ts = states.local();
+                Sampler& sampler = *ts.cam_sampler;
+                for (int yy = r.begin(); yy < r.end(); ++yy) {
+                    for (int xx = 0; xx < w; ++xx) {
+                        const Vec2i pixel(fp.x0 + xx, fp.y0 + yy);
+                        // The light path this camera path connects to.
+                        const size_t k = (size_t(yy) * size_t(w) + size_t(xx)) % size_t(n_light);
+                        sampler.start_pixel_sample(pixel, iter);
+                        const FilterSample fs = filter.sample(sampler.get_pixel_2d());
+                        const Point2 u_lens = sampler.get_2d();
+                        const Point2 p_film(Float(pixel.x) + 0.5f + fs.offset.x,
+                                            Float(pixel.y) + 0.5f + fs.offset.y);
+                        const Ray ray = scene.camera->generate_ray(
+                            p_film, scene.camera->uses_lens_sample() ? u_lens : Point2(0.5f, 0.5f));
+                        SampledWavelengths lw = lambda;
+                        const SampledSpectrum L = vcm.camera_path(
+                            ray, sampler, ts.counters, vertices.data() + k * size_t(stride),
+                            counts[k], vertices, grid, lw);
+                        std::array<double, 3> xyz{0, 0, 0};
+                        bool finite = !L.has_nonfinite();
+                        if (finite) {
+                            xyz = film.to_sensor(L, lw);
+                            finite = finite3(xyz);
+                        }
+                        if (!finite) {
+                            ++ts.nonfinite;
+                            xyz = {0, 0, 0};
+                        }
+                        film.add(sums, pixel.x, pixel.y, xyz, fs.weight);
+                    }
+                }
+                progress.add(uint64_t(r.size()) * uint64_t(w));
+            });
+        });
+        ++done;
+
+        const double iter_seconds = elapsed() - iter_t0;
+        if (done < iterations) {
+            if (opt.stop && opt.stop->load()) {
+                stats.interrupted = true;
+                break;
+            }
+            // A whole iteration must fit in the budget (the first always completes).
+            if (opt.time_budget > 0 && elapsed() + iter_seconds > opt.time_budget) {
+                stats.time_limited = true;
+                break;
+            }
+        }
+    }
+    progress.finish();
+
+    film.set_sums(std::move(sums));
+    film.set_splat_sums(std::move(splat_sums));
+    film.set_splat_scale(1 / (double(done) * filter.integral()));
+
+    stats.spp = done;
+    stats.wall_seconds = elapsed();
+    stats.cpu_seconds = process_cpu_seconds() - cpu0;
+    stats.camera_paths = uint64_t(done) * uint64_t(n_pixels);
+    stats.nonfinite = nonfinite;
+    for (const ThreadState& t : states) {
+        stats.rays += t.counters.rays;
+        stats.nonfinite += t.nonfinite;
+    }
+    stats.peak_rss_bytes = peak_rss_bytes();
+    return stats;
+}
+
+}  // namespace sr
