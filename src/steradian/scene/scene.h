@@ -100,6 +100,14 @@ public:
     std::vector<Meter> meters;  ///< Meter directives (docs/photometry.md)
     std::vector<Medium> media;  ///< MakeNamedMedium, referred to by index
     int camera_medium = -1;     ///< the medium camera rays start in (-1: vacuum)
+    /// The media on the two sides of each light (parallel to `lights`; -1: vacuum), where the
+    /// bidirectional integrators' light paths start: the outside medium at a LightSource (both
+    /// sides alike), an area light's shape's MediumInterface (emission in direction w leaves
+    /// into `outside` where dot(w, n) > 0). Lights at infinity emit in vacuum, as in pbrt-v4.
+    struct LightMedia {
+        int inside = -1, outside = -1;
+    };
+    std::vector<LightMedia> light_media;
 
     std::unique_ptr<Camera> camera;
     /// Some texture filters by the footprint of a pixel (mip-mapped images, checkerboards,

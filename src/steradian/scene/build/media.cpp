@@ -319,12 +319,15 @@ void Builder::build_media() {
 void Builder::use_volumetric_kernel(const std::string& what, const std::string& pbrt_path) {
     if (m_s.integrator.type == "bdpt" || m_s.integrator.type == "lightpath" ||
         m_s.integrator.type == "mlt") {
-        recorded([&] {
-            throw_unsupported(m_d.integrator.loc,
-                              "Integrator \"{}\": the scene has {}, which the bidirectional "
-                              "integrators do not support yet (use \"volpath\")",
-                              m_s.integrator.type, what);
-        });
+        // The bidirectional kernels trace media themselves (integrators/bdpt/, as pbrt-v4's
+        // bdpt does), but not a subsurface material's interior.
+        if (what != "participating media")
+            recorded([&] {
+                throw_unsupported(m_d.integrator.loc,
+                                  "Integrator \"{}\": the scene has {}, which the "
+                                  "bidirectional integrators do not support (use \"volpath\")",
+                                  m_s.integrator.type, what);
+            });
         return;
     }
     if (!m_volpath)
