@@ -5,7 +5,8 @@ estimators of the same image, so their 16 x 16-pixel block means and image means
 the standard errors of RUNS independent renders (seeds) each. Prints the image means with
 their standard errors, the z-score of their difference, the mean square and largest |z| over
 the blocks, and each renderer's CPU seconds per render (user + system of the child), and writes
-the first render of each as PNG to OUTDIR.
+the first render of each as PNG to OUTDIR. pbrt-v4 runs on one thread: on two its bdpt
+crashes (SIGSEGV) on bench/scenes/foggy_room.pbrt (build of /work/pbrt-v4-build, 27 Nov 2026).
 
 Usage: bench/bdpt_media_vs_pbrt.py STERADIAN PBRT [SPP] [RUNS] [OUTDIR] [SCENE]
 """
@@ -61,7 +62,7 @@ def main():
                                     "1", "--threads", "2", "-o", str(exr)], check=True)
             else:
                 secs.append(cpu_run([pbrt, "--quiet", "--spp", str(spp), "--seed", str(seed + 1),
-                                     "--nthreads", "2", "--outfile", str(exr), str(scene)]))
+                                     "--nthreads", "1", "--outfile", str(exr), str(scene)]))
                 lum = read_exr(exr) @ Y
             if seed == 0:
                 subprocess.run(["oiiotool", str(exr), "--tocolorspace", "sRGB", "-o",

@@ -76,7 +76,9 @@ struct IntegratorSettings {
     } mlt;
     std::string light_sampler = "bvh";  ///< pbrt-v4's names: "bvh" (its default), "power", "uniform"
     /// "volpath" in a scene with media: paths are traced through them (integrators/path/
-    /// volpath.cpp); otherwise media are ignored.
+    /// volpath.cpp); otherwise media are ignored. Also set for the bidirectional integrators
+    /// with media (which trace them themselves), so that the path kernel's other users
+    /// (meters) do too.
     bool volumetric = false;
 };
 
