@@ -8,7 +8,7 @@ the blocks, and each renderer's CPU seconds per render (user + system of the chi
 the first render of each as PNG to OUTDIR. pbrt-v4 runs on one thread: on two its bdpt
 crashes (SIGSEGV) on bench/scenes/foggy_room.pbrt (build of /work/pbrt-v4-build, 27 Nov 2026).
 
-Usage: bench/bdpt_media_vs_pbrt.py STERADIAN PBRT [SPP] [RUNS] [OUTDIR] [SCENE]
+Usage: bench/bdpt_media_vs_pbrt.py STERADIAN PBRT [SPP] [RUNS] [OUTDIR] [SCENE] [FIRST_SEED]
 """
 import pathlib
 import resource
@@ -45,6 +45,7 @@ def main():
     runs = int(sys.argv[4]) if len(sys.argv) > 4 else 4
     outdir = pathlib.Path(sys.argv[5]) if len(sys.argv) > 5 else pathlib.Path(tempfile.mkdtemp())
     scene = pathlib.Path(sys.argv[6]).resolve() if len(sys.argv) > 6 else SCENE
+    seed0 = int(sys.argv[7]) if len(sys.argv) > 7 else 1
     outdir.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp())
     stats = {}
@@ -55,13 +56,13 @@ def main():
             if name == "steradian":
                 out = tmp / f"{name}-{seed}.pfm"
                 secs.append(cpu_run([ours, "render", str(scene), "-q", "--spp", str(spp), "--seed",
-                                     str(seed + 1), "--threads", "2", "-o", str(out)]))
+                                     str(seed + seed0), "--threads", "2", "-o", str(out)]))
                 lum = read_pfm(out) @ Y
                 if seed == 0:
                     subprocess.run([ours, "render", str(scene), "-q", "--spp", str(spp), "--seed",
-                                    "1", "--threads", "2", "-o", str(exr)], check=True)
+                                    str(seed0), "--threads", "2", "-o", str(exr)], check=True)
             else:
-                secs.append(cpu_run([pbrt, "--quiet", "--spp", str(spp), "--seed", str(seed + 1),
+                secs.append(cpu_run([pbrt, "--quiet", "--spp", str(spp), "--seed", str(seed + seed0),
                                      "--nthreads", "1", "--outfile", str(exr), str(scene)]))
                 lum = read_exr(exr) @ Y
             if seed == 0:

@@ -49,11 +49,6 @@ AttributeBegin
 AttributeEnd
 )";
 
-// Veach's recursion (sec. 10.2.1) gives each strategy's power-heuristic weight from ratios
-// of neighbouring densities; the weights of all strategies that can make a path must sum to
-// 1, and each must equal p_s^2 / sum_i p_i^2 computed directly from the path's densities
-// (eq. 10.9 with exponent 2). Checked over random complete paths (camera paths that end on
-// the light) through diffuse, glossy and specular vertices, of 3 to 9 vertices.
 /// The mixed scene filled with fog (camera and light in it, every surface with fog on both
 /// sides): complete paths then have medium vertices, whose densities are the phase
 /// function's with no cosine in the conversion to area densities.
@@ -105,6 +100,11 @@ int check_weights(const std::string& text) {
     return with_medium;
 }
 
+// Veach's recursion (sec. 10.2.1) gives each strategy's power-heuristic weight from ratios
+// of neighbouring densities; the weights of all strategies that can make a path must sum to
+// 1, and each must equal p_s^2 / sum_i p_i^2 computed directly from the path's densities
+// (eq. 10.9 with exponent 2). Checked over random complete paths (camera paths that end on
+// the light) through diffuse, glossy and specular vertices, of 3 to 9 vertices.
 TEST(BdptMis, WeightsOfAllStrategiesSumToOneAndMatchTheDirectFormula) {
     EXPECT_EQ(check_weights(kMixedScene), 0);
 }
