@@ -24,7 +24,8 @@ another seed); its own noise adds to both MSEs and pulls the ratio towards 1.
 
 With a SCENE argument another scene is measured the same way (its Integrator line must be
 bdpt's); bench/scenes/lampshade.pbrt is the room lit by a lamp in a closed diffuse-
-transmission shade. The light-seen blocks are only looked for in bench/scenes/caustic.pbrt.
+transmission shade, bench/scenes/foggy_room.pbrt a foggy room lit through a small opening
+(its "path" is the volumetric path tracer). The light-seen blocks are only looked for in bench/scenes/caustic.pbrt.
 
 Usage: bench/caustic_bdpt.py STERADIAN REFERENCE.exr [PATH_SPP] [BDPT_SPP] [RUNS] [SCENE]
 """

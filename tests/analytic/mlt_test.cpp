@@ -161,7 +161,8 @@ TEST(Mlt, ParameterErrorsNameTheirLocation) {
     EXPECT_FLOAT_EQ(s.integrator.mlt.sigma, 0.01f);
 }
 
-// What the bidirectional kernels cannot trace is refused, as is a scene without light.
+// What the bidirectional kernels cannot trace is refused, as is a scene without light (media:
+// bidir_media_test.cpp).
 TEST(Mlt, RefusesWhatItCannotRender) {
     std::string ortho = cornell_box(kMlt, 16);
     replace_once(ortho, "Camera \"perspective\" \"float fov\" [ 39.3077 ]", "Camera \"orthographic\"");
@@ -170,15 +171,6 @@ TEST(Mlt, RefusesWhatItCannotRender) {
         ADD_FAILURE() << "orthographic camera accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("perspective"), std::string::npos) << e.what();
-    }
-    std::string fog = cornell_box(kMlt, 16);
-    replace_once(fog, "WorldBegin", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" [ \"homogeneous\" ]");
-    try {
-        render_seeded(fog, 1, 0);
-        ADD_FAILURE() << "a medium accepted";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("bidirectional"), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("<test>:"), std::string::npos) << e.what();
     }
     const std::string dark = "Camera \"perspective\"\nIntegrator \"mlt\" \"integer bootstrapsamples\" [ 10 ]\n"
                              "WorldBegin\nShape \"sphere\"\n";

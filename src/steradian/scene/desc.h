@@ -61,6 +61,9 @@ struct TextureDesc : EntityDesc {
 
 struct LightDesc : EntityDesc {
     Transform world_from_light;  ///< CTM at the LightSource directive
+    /// The outside medium of the MediumInterface at the LightSource directive ("": none): the
+    /// medium its light paths start in (pbrt-v4's light mediumInterface.outside).
+    std::string medium;
 };
 
 /// Meter "type" ... (a steradian extension, docs/photometry.md): points and directions

@@ -92,7 +92,9 @@ struct IntegratorSettings {
     } mlt;
     std::string light_sampler = "bvh";  ///< pbrt-v4's names: "bvh" (its default), "power", "uniform"
     /// "volpath" in a scene with media: paths are traced through them (integrators/path/
-    /// volpath.cpp); otherwise media are ignored.
+    /// volpath.cpp); otherwise media are ignored. Also set for the bidirectional integrators
+    /// with media (which trace them themselves), so that the path kernel's other users
+    /// (meters) do too.
     bool volumetric = false;
 };
 
@@ -116,6 +118,14 @@ public:
     std::vector<Meter> meters;  ///< Meter directives (docs/photometry.md)
     std::vector<Medium> media;  ///< MakeNamedMedium, referred to by index
     int camera_medium = -1;     ///< the medium camera rays start in (-1: vacuum)
+    /// The media on the two sides of each light (parallel to `lights`; -1: vacuum), where the
+    /// bidirectional integrators' light paths start: the outside medium at a LightSource (both
+    /// sides alike), an area light's shape's MediumInterface (emission in direction w leaves
+    /// into `outside` where dot(w, n) > 0). Lights at infinity emit in vacuum, as in pbrt-v4.
+    struct LightMedia {
+        int inside = -1, outside = -1;
+    };
+    std::vector<LightMedia> light_media;
 
     std::unique_ptr<Camera> camera;
     /// Some texture filters by the footprint of a pixel (mip-mapped images, checkerboards,

@@ -3,13 +3,16 @@
 #include <algorithm>
 
 #include "steradian/core/error.h"
+#include "steradian/integrators/path/medium_transport.h"
+#include "steradian/media/medium.h"
+#include "steradian/sampling/hash.h"
 #include "steradian/scene/scene.h"
 
 namespace sr {
 
 namespace {
 
-enum class VertexType : uint8_t { Camera, Light, Surface };
+enum class VertexType : uint8_t { Camera, Light, Surface, Medium };
 
 /// A subpath vertex (Veach 1997, sec. 10.2; pbrt's Vertex). pdf_fwd is the density (per
 /// unit area at this vertex, per solid angle for a vertex at infinity) with which its own
@@ -27,10 +30,20 @@ struct Vertex {
     Normal3 ng{0, 0, 0};  ///< zero for a point (pinhole, point light, escaped direction)
     Normal3 ns{0, 0, 0};
     Float pdf_fwd = 0, pdf_rev = 0;
+    /// The media on the two sides (-1: vacuum): a surface's MediumInterface where it is a
+    /// transition, else the medium the path was in, on both sides; a medium vertex's medium;
+    /// the camera's; a light's (Scene::light_media). A path leaving the vertex in direction
+    /// w is in medium_out if dot(w, ng) >= 0 (or the vertex is a point), else medium_in.
+    int medium_in = -1, medium_out = -1;
+    Float g = 0;  ///< medium vertices: the Henyey-Greenstein asymmetry of the phase function
+    /// Surfaces: the hit (hit.wo: towards the previous vertex). Medium vertices: only hit.wo.
     SurfaceHit hit;
     std::optional<Bsdf> bsdf;
 
     bool on_surface() const { return ng.x != 0 || ng.y != 0 || ng.z != 0; }
+    int medium_towards(Vec3 w) const {
+        return on_surface() && dot(w, ng) < 0 ? medium_in : medium_out;
+    }
 };
 
 Float remap0(Float f) { return f != 0 ? f : 1; }
@@ -82,10 +95,19 @@ void check_bidir_scene(const Scene& scene, const char* integrator) {
         throw Error(fmt::format("Integrator \"{}\": only the \"perspective\" camera is supported "
                                 "(as in pbrt-v4)",
                                 integrator));
-    if (!scene.media.empty() || scene.integrator.volumetric)
-        throw Error(fmt::format("Integrator \"{}\": participating media are not supported yet by "
-                                "the bidirectional integrators (use \"volpath\")",
-                                integrator));
+    // Media are traced as pbrt-v4's bdpt traces them; but pbrt-v4's bdpt ignores a medium's
+    // emission and a subsurface material's interior, which would leave a wrong image here.
+    for (const Medium& m : scene.media)
+        if (is_emissive(m))
+            throw Error(fmt::format("Integrator \"{}\": emissive participating media are not "
+                                    "supported by the bidirectional integrators (pbrt-v4's bdpt "
+                                    "ignores their emission; use \"volpath\")",
+                                    integrator));
+    for (const Material& m : scene.materials)
+        if (std::holds_alternative<SubsurfaceMaterial>(m))
+            throw Error(fmt::format("Integrator \"{}\": subsurface materials are not supported "
+                                    "by the bidirectional integrators (use \"volpath\")",
+                                    integrator));
     for (const Light& l : scene.lights)
         if (!light_can_emit(l))
             throw Error(fmt::format("Integrator \"{}\": an \"infinite\" light with a \"portal\" "
@@ -100,7 +122,9 @@ public:
     Bidir(const BidirContext& ctx, SampledWavelengths& lambda, Sampler& sampler,
           PathCounters& counters)
         : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_sampler(&sampler),
-          m_counters(counters), m_mctx(ctx.scene.material_context()) {}
+          m_counters(counters), m_mctx(ctx.scene.material_context()),
+          m_media(!ctx.scene.media.empty()),
+          m_tr_key(m_media ? hash(lambda[0], lambda[1], lambda[2], lambda[3]) : 0) {}
 
     // ---- vertex queries ------------------------------------------------------------------
 
@@ -114,7 +138,8 @@ public:
     }
     bool connectible(const Vertex& v) const {
         switch (v.type) {
-            case VertexType::Camera: return true;
+            case VertexType::Camera:
+            case VertexType::Medium: return true;
             case VertexType::Light:
                 return v.light < 0 || !light_delta_direction(m_scene.lights[size_t(v.light)]);
             case VertexType::Surface: return v.bsdf && v.bsdf->has_non_specular();
@@ -122,10 +147,14 @@ public:
         return false;
     }
 
-    /// BSDF of `v` from its own incoming direction towards `next` (no cosine).
+    /// BSDF (phase function at a medium vertex) of `v` from its own incoming direction
+    /// towards `next` (no cosine).
     SampledSpectrum f(const Vertex& v, const Vertex& next, TransportMode mode) const {
         const Vec3 wi = next.p - v.p;
-        if (length_squared(wi) == 0 || !v.bsdf) return SampledSpectrum(0);
+        if (length_squared(wi) == 0) return SampledSpectrum(0);
+        if (v.type == VertexType::Medium)
+            return SampledSpectrum(hg_phase(dot(v.hit.wo, normalize(wi)), v.g));
+        if (!v.bsdf) return SampledSpectrum(0);
         return v.bsdf->f(v.hit.wo, normalize(wi), mode);
     }
 
@@ -198,10 +227,12 @@ public:
             Float pos;
             m_scene.camera->pdf_we(Ray{v.p, wn, kInfinity}, pos, p);
         } else {
-            if (!prev || !v.bsdf) return 0;
+            if (!prev || (!v.bsdf && v.type != VertexType::Medium)) return 0;
             Vec3 wp = prev->p - v.p;
             if (length_squared(wp) == 0) return 0;
-            p = v.bsdf->pdf(normalize(wp), wn);
+            // (The phase function is sampled exactly: its density is its value.)
+            p = v.type == VertexType::Medium ? hg_phase(dot(normalize(wp), wn), v.g)
+                                             : v.bsdf->pdf(normalize(wp), wn);
         }
         return convert_density(v, p, next);
     }
@@ -237,31 +268,131 @@ public:
         return !m_scene.occluded(Ray{o, t - o, 1 - Float(1e-4)});
     }
 
-    /// The generalised geometry term with visibility (shading-normal cosines).
-    Float g(const Vertex& a, const Vertex& b) const {
+    /// The transmittance between a and b (pbrt-v4's Integrator::Tr): zero if a surface with
+    /// a material is between them, else the product of ratio-tracking estimates through the
+    /// media the segment crosses (starting in a's medium towards b, or b's if a is at
+    /// infinity). Without media, visibility alone.
+    SampledSpectrum tr(const Vertex& a, const Vertex& b) const {
+        if (!m_media) return SampledSpectrum(unoccluded(a, b) ? 1 : 0);
+        Ray ray;
+        int medium;
+        bool to_point = true;
+        if (b.infinite || a.infinite) {
+            const Vertex& fin = a.infinite ? b : a;
+            const Vertex& inf = a.infinite ? a : b;
+            const Vec3 d = normalize(inf.p - fin.p);
+            ray = Ray{offset_ray_origin(fin.p, fin.p_error, fin.ng, d), d, kInfinity};
+            medium = fin.medium_towards(d);
+            to_point = false;
+        } else {
+            const Point3 o = offset_ray_origin(a.p, a.p_error, a.ng, b.p - a.p);
+            const Point3 t = offset_ray_origin(b.p, b.p_error, b.ng, o - b.p);
+            ray = Ray{o, t - o, 1 - Float(1e-4)};
+            medium = a.medium_towards(b.p - a.p);
+        }
+        SampledSpectrum r_l(1), r_u(1);
+        const SampledSpectrum t = shadow_transmittance(m_scene, ray, medium, to_point, m_lambda,
+                                                       r_l, r_u, m_tr_key, m_counters);
+        if (t.is_zero()) return t;
+        const SampledSpectrum w = t / r_l.average();
+        return w.has_nonfinite() ? SampledSpectrum(0) : w;
+    }
+
+    /// The generalised geometry term with visibility and transmittance (shading-normal
+    /// cosines at surfaces; none at medium vertices and points).
+    SampledSpectrum g(const Vertex& a, const Vertex& b) const {
         Vec3 d = a.p - b.p;
         Float gv = 1 / length_squared(d);
         d = d * std::sqrt(gv);
         if (a.on_surface()) gv *= absdot(a.ns, d);
         if (b.on_surface()) gv *= absdot(b.ns, d);
-        if (!(gv > 0) || !std::isfinite(gv)) return 0;
-        return unoccluded(a, b) ? gv : 0;
+        if (!(gv > 0) || !std::isfinite(gv)) return SampledSpectrum(0);
+        return tr(a, b) * gv;
     }
 
     // ---- subpaths --------------------------------------------------------------------------
 
-    /// Extends `path` (whose last vertex exists) by a random walk from `ray`.
+    /// Extends `path` (whose last vertex exists) by a random walk from `ray`, which starts in
+    /// `medium` (-1: vacuum). In a medium, free flights are sampled by delta tracking against
+    /// its majorant (pbrt-v4's RandomWalk with SampleT_maj, as volpath's): a real scattering
+    /// makes a medium vertex, whose phase function is sampled for the next direction.
     void random_walk(std::vector<Vertex>& path, Ray ray, SampledSpectrum beta, Float pdf_fwd,
-                     int max_vertices, TransportMode mode) {
+                     int max_vertices, TransportMode mode, int medium) {
         if (max_vertices <= 0) return;
         int added = 0, crossings = 0;
         bool any_non_specular = false;
         while (true) {
             if (beta.is_zero()) break;
-            Vertex& prev_ref = path.back();
             SurfaceHit hit;
             ++m_counters.rays;
-            if (!m_scene.intersect(ray, hit)) {
+            const bool found = m_scene.intersect(ray, hit);
+            if (medium >= 0) {
+                // Two dimensions per medium segment: the first free flight, and the key of
+                // the stream of the later ones and of the collisions' choices.
+                const Float u = m_sampler->get_1d();
+                const Float uk = m_sampler->get_1d();
+                Pcg32 rng = tracking_rng(hash(uk, ray.o.x, ray.o.y, ray.o.z),
+                                         hash(ray.d.x, ray.d.y, ray.d.z));
+                bool scattered = false, terminated = false;
+                Point3 p_scatter;
+                Float g_scatter = 0;
+                const SampledSpectrum t_maj = sample_t_maj(
+                    m_scene.media[size_t(medium)], ray, found ? hit.t : kInfinity, u, rng,
+                    m_lambda,
+                    [&](Point3 p, const MediumProperties& mp, SampledSpectrum sigma_maj,
+                        SampledSpectrum tm) {
+                        // Absorption, real or null scattering, with the hero wavelength's
+                        // probabilities (the others weighted by their ratio to it).
+                        const Float p_absorb = mp.sigma_a[0] / sigma_maj[0];
+                        const Float p_real = mp.sigma_s[0] / sigma_maj[0];
+                        const Float um = rng.next_float();
+                        if (um < p_absorb) {
+                            terminated = true;
+                            return false;
+                        }
+                        if (um < p_absorb + p_real) {
+                            beta *= tm * mp.sigma_s / (tm[0] * mp.sigma_s[0]);
+                            p_scatter = p;
+                            g_scatter = mp.g;
+                            scattered = true;
+                            return false;
+                        }
+                        SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
+                        for (int i = 0; i < kSpectrumSamples; ++i)
+                            sigma_n[i] = std::max(sigma_n[i], Float(0));
+                        const Float pdf = tm[0] * sigma_n[0];
+                        beta = pdf > 0 ? beta * tm * sigma_n / pdf : SampledSpectrum(0);
+                        return !beta.is_zero();
+                    });
+                if (terminated || beta.is_zero() || beta.has_nonfinite()) break;
+                if (scattered) {
+                    Vertex v;
+                    v.type = VertexType::Medium;
+                    v.beta = beta;
+                    v.p = p_scatter;
+                    v.hit.wo = -normalize(ray.d);
+                    v.g = g_scatter;
+                    v.medium_in = v.medium_out = medium;
+                    v.pdf_fwd = convert_density(path.back(), pdf_fwd, v);
+                    path.push_back(std::move(v));
+                    Vertex& cur = path.back();
+                    if (++added >= max_vertices) break;
+                    m_sampler->skip_1d();  // (three dimensions per vertex, as a surface's)
+                    const PhaseSample ps = sample_hg(cur.hit.wo, cur.g, m_sampler->get_2d());
+                    if (!(ps.p > 0)) break;
+                    // Sampled exactly: beta is unchanged (p / pdf = 1), and the reverse
+                    // density is the same value (the phase function is symmetric).
+                    pdf_fwd = ps.p;
+                    any_non_specular = true;
+                    ray = Ray{cur.p, ps.wi, kInfinity};
+                    Vertex& prev = path[path.size() - 2];
+                    prev.pdf_rev = convert_density(cur, ps.p, prev);
+                    continue;
+                }
+                beta *= t_maj / t_maj[0];
+                if (beta.is_zero() || beta.has_nonfinite()) break;
+            }
+            if (!found) {
                 if (mode == TransportMode::Radiance) {
                     Vertex v;
                     v.type = VertexType::Light;
@@ -280,6 +411,7 @@ public:
                                   : std::nullopt;
             if (!bsdf) {
                 if (++crossings > 256) break;
+                medium = medium_after(m_scene, hit, ray.d, medium);
                 ray = spawn_ray(hit, ray.d);
                 continue;
             }
@@ -292,9 +424,13 @@ public:
             v.ng = hit.ng;
             v.ns = bsdf->frame().n;
             v.light = hit.light;
+            if (m_media) {
+                v.medium_in = medium_after(m_scene, hit, -hit.ng, medium);
+                v.medium_out = medium_after(m_scene, hit, hit.ng, medium);
+            }
             v.hit = hit;
             v.bsdf = std::move(bsdf);
-            v.pdf_fwd = convert_density(prev_ref, pdf_fwd, v);
+            v.pdf_fwd = convert_density(path.back(), pdf_fwd, v);
             path.push_back(std::move(v));
             Vertex& cur = path.back();
             if (++added >= max_vertices) break;
@@ -312,6 +448,7 @@ public:
                 cur.delta = true;
                 pdf_rev = pdf_fwd = 0;
             }
+            medium = cur.medium_towards(bs->wi);
             ray = spawn_ray(cur.hit, bs->wi);
             Vertex& prev = path[path.size() - 2];
             prev.pdf_rev = convert_density(cur, pdf_rev, prev);
@@ -327,9 +464,18 @@ public:
         c.type = VertexType::Camera;
         c.beta = SampledSpectrum(1);
         c.p = ray.o;
+        c.medium_in = c.medium_out = m_scene.camera_medium;
         path.push_back(std::move(c));
         if (!(pdf_dir > 0)) return;
-        random_walk(path, ray, SampledSpectrum(1), pdf_dir, max_walk, TransportMode::Radiance);
+        random_walk(path, ray, SampledSpectrum(1), pdf_dir, max_walk, TransportMode::Radiance,
+                    m_scene.camera_medium);
+    }
+
+    /// A light vertex's media (Scene::light_media; vacuum at infinity).
+    void set_light_media(Vertex& v, int li) const {
+        if (v.infinite || size_t(li) >= m_scene.light_media.size()) return;
+        v.medium_in = m_scene.light_media[size_t(li)].inside;
+        v.medium_out = m_scene.light_media[size_t(li)].outside;
     }
 
     /// The light subpath: a light vertex and up to max_vertices - 1 more.
@@ -354,13 +500,16 @@ public:
         v.p = les->p;
         v.p_error = les->p_error;
         v.ng = v.ns = les->n;
+        set_light_media(v, li);
         // (Read only by lightpath's s = 1, with the emission towards the lens.)
         v.beta = SampledSpectrum(1 / (pmf * les->pdf_pos));
         v.pdf_fwd = pmf * les->pdf_pos;
         path.push_back(std::move(v));
         const Float cos = path[0].on_surface() ? absdot(les->n, les->ray.d) : 1;
         const SampledSpectrum beta = les->L * (cos / (pmf * les->pdf_pos * les->pdf_dir));
-        random_walk(path, les->ray, beta, les->pdf_dir, max_vertices - 1, TransportMode::Importance);
+        const int medium = path[0].medium_towards(les->ray.d);
+        random_walk(path, les->ray, beta, les->pdf_dir, max_vertices - 1, TransportMode::Importance,
+                    medium);
         if (path[0].infinite) {
             // The first surface's density is the disk's (its position), and the light
             // vertex's the direction's (pbrt-v3's correction for infinite lights).
@@ -454,6 +603,7 @@ public:
             sampled.type = VertexType::Camera;
             sampled.p = cs->p_lens;
             sampled.ng = sampled.ns = cs->n_lens;
+            sampled.medium_in = sampled.medium_out = m_scene.camera_medium;
             sampled.beta = SampledSpectrum(cs->we / cs->pdf);
             if (qs.type == VertexType::Light) {
                 // The light's own vertex (lightpath's s = 1): its emission towards the lens.
@@ -463,7 +613,7 @@ public:
                 c = qs.beta * f(qs, sampled, TransportMode::Importance) * sampled.beta;
                 if (qs.on_surface()) c *= absdot(cs->wi, qs.ns);
             }
-            if (!c.is_zero() && !unoccluded(qs, sampled)) c = SampledSpectrum(0);
+            if (!c.is_zero()) c *= tr(qs, sampled);
             c *= m_ctx.crop_factor;
         } else if (s == 1) {
             const Vertex& pt = C[size_t(t - 1)];
@@ -482,20 +632,21 @@ public:
             sampled.p = ls->p_light;
             sampled.p_error = ls->p_error;
             sampled.ng = sampled.ns = ls->n_light;
+            set_light_media(sampled, li);
             sampled.beta = ls->L / (ls->pdf_sa * pmf);
             if (sampled.infinite) sampled.light = -1;  // densities of all infinite lights
             sampled.pdf_fwd = pdf_light_origin(sampled, pt);
             if (sampled.infinite) sampled.light = li;
             c = pt.beta * f(pt, sampled, TransportMode::Radiance) * sampled.beta;
             if (pt.on_surface()) c *= absdot(ls->wi, pt.ns);
-            if (!c.is_zero() && !unoccluded(pt, sampled)) c = SampledSpectrum(0);
+            if (!c.is_zero()) c *= tr(pt, sampled);
         } else {
             const Vertex& qs = L[size_t(s - 1)];
             const Vertex& pt = C[size_t(t - 1)];
             if (!connectible(qs) || !connectible(pt)) return c;
             c = qs.beta * f(qs, pt, TransportMode::Importance) * f(pt, qs, TransportMode::Radiance) *
                 pt.beta;
-            if (!c.is_zero()) c *= g(qs, pt);
+            if (!c.is_zero()) c *= g(qs, pt);  // (with the transmittance between them)
         }
         return c;
     }
@@ -575,6 +726,8 @@ public:
         if (!is_light(last) || last.infinite || last.type != VertexType::Surface) return out;
         // The full path x_0 (the emitter) ... x_{n-1} (the camera).
         std::vector<Vertex> x(cam.rbegin(), cam.rend());
+        int n_medium = 0;
+        for (const Vertex& v : x) n_medium += v.type == VertexType::Medium;
         // The emitter as a light vertex.
         Vertex& x0 = x[0];
         x0.type = VertexType::Light;
@@ -645,7 +798,7 @@ public:
             if (s == 1) sampled = L[0];
             if (t == 1) sampled = C[0];
             const double rw = s + t == 2 ? 1 : mis_weight(L, C, sampled, s, t);
-            out.push_back({s, rw, sqr(p_of(s)) / denom});
+            out.push_back({s, rw, sqr(p_of(s)) / denom, n_medium});
         }
         return out;
     }
@@ -657,6 +810,8 @@ private:
     Sampler* m_sampler;
     PathCounters& m_counters;
     const MaterialContext m_mctx;
+    const bool m_media;       ///< the scene has media: connections track transmittance
+    const uint64_t m_tr_key;  ///< keys the transmittance streams of this sample's connections
 };
 
 }  // namespace

@@ -56,8 +56,9 @@ struct BidirContext {
 };
 
 /// Throws sr::Error (naming the integrator) when the scene has something the bidirectional
-/// estimators cannot trace yet: media, a camera without importance (orthographic), a light
-/// that cannot emit particles (an environment map with a portal).
+/// estimators cannot trace: a camera without importance (orthographic), an emissive medium or
+/// a subsurface material (pbrt-v4's bdpt ignores both), a light that cannot emit particles
+/// (an environment map with a portal). Other media are traced.
 void check_bidir_scene(const Scene& scene, const char* integrator);
 
 /// Per-thread storage of the subpaths (kept between samples to avoid allocations).
@@ -103,6 +104,7 @@ namespace bdpt_test {
 struct WeightCheck {
     int s;
     double recursive, direct;
+    int medium_vertices = 0;  ///< the path's scattering vertices in media
 };
 std::vector<WeightCheck> mis_weights_of_camera_path(const BidirContext& ctx, const Ray& ray,
                                                     SampledWavelengths& lambda, Sampler& sampler,

@@ -49,16 +49,26 @@ AttributeBegin
 AttributeEnd
 )";
 
-// Veach's recursion (sec. 10.2.1) gives each strategy's power-heuristic weight from ratios
-// of neighbouring densities; the weights of all strategies that can make a path must sum to
-// 1, and each must equal p_s^2 / sum_i p_i^2 computed directly from the path's densities
-// (eq. 10.9 with exponent 2). Checked over random complete paths (camera paths that end on
-// the light) through diffuse, glossy and specular vertices, of 3 to 9 vertices.
-TEST(BdptMis, WeightsOfAllStrategiesSumToOneAndMatchTheDirectFormula) {
-    Scene scene = build_scene(parse_pbrt_string(kMixedScene, "<test>", "."));
+/// The mixed scene filled with fog (camera and light in it, every surface with fog on both
+/// sides): complete paths then have medium vertices, whose densities are the phase
+/// function's with no cosine in the conversion to area densities.
+std::string foggy_mixed_scene() {
+    std::string s = kMixedScene;
+    s = "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"spectrum sigma_a\" [ 300 0.05 "
+        "900 0.05 ] \"spectrum sigma_s\" [ 300 0.4 900 0.4 ] \"float g\" [ 0.5 ]\n"
+        "MediumInterface \"\" \"fog\"\n" +
+        s;
+    s.replace(s.find("WorldBegin"), 10, "WorldBegin\nMediumInterface \"fog\" \"fog\"");
+    return s;
+}
+
+/// Checks the weights over random complete paths of 3 to 9 vertices; returns the number of
+/// paths with a medium vertex.
+int check_weights(const std::string& text) {
+    Scene scene = build_scene(parse_pbrt_string(text, "<test>", "."));
     BidirContext ctx(scene);
     std::unique_ptr<Sampler> sampler = make_sampler("independent", 1 << 20, Vec2i(32, 32), 3);
-    int paths = 0, with_specular = 0;
+    int paths = 0, with_specular = 0, with_medium = 0;
     for (int n = 3; n <= 9; ++n) {
         int found = 0;
         for (int i = 0; i < 400000 && found < 40; ++i) {
@@ -80,12 +90,28 @@ TEST(BdptMis, WeightsOfAllStrategiesSumToOneAndMatchTheDirectFormula) {
             EXPECT_NEAR(sum, 1.0, 2e-3) << "path of " << n << " vertices";
             EXPECT_NEAR(direct_sum, 1.0, 1e-9);
             with_specular += int(w.size()) < n;  // some strategy impossible: a specular vertex
+            with_medium += w[0].medium_vertices > 0;
         }
         EXPECT_GE(found, 10) << "too few complete paths of " << n << " vertices";
         paths += found;
     }
     EXPECT_GT(with_specular, 10);
     EXPECT_GT(paths, 100);
+    return with_medium;
+}
+
+// Veach's recursion (sec. 10.2.1) gives each strategy's power-heuristic weight from ratios
+// of neighbouring densities; the weights of all strategies that can make a path must sum to
+// 1, and each must equal p_s^2 / sum_i p_i^2 computed directly from the path's densities
+// (eq. 10.9 with exponent 2). Checked over random complete paths (camera paths that end on
+// the light) through diffuse, glossy and specular vertices, of 3 to 9 vertices.
+TEST(BdptMis, WeightsOfAllStrategiesSumToOneAndMatchTheDirectFormula) {
+    EXPECT_EQ(check_weights(kMixedScene), 0);
+}
+
+// The same with medium vertices on the paths (scattering in fog between the surfaces).
+TEST(BdptMis, WeightsSumToOneAndMatchTheDirectFormulaWithMediumVertices) {
+    EXPECT_GT(check_weights(foggy_mixed_scene()), 50);
 }
 
 // The camera's importance is normalised so that its integral over the film (over the

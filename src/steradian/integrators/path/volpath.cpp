@@ -3,6 +3,7 @@
 #include <climits>
 
 #include "steradian/bsdf/normalized_fresnel.h"
+#include "steradian/integrators/path/medium_transport.h"
 #include "steradian/material/subsurface.h"
 #include "steradian/media/medium.h"
 #include "steradian/sampling/hash.h"
@@ -12,10 +13,6 @@
 namespace sr {
 
 namespace {
-
-/// The random-number stream of a tracking loop, keyed by two sample values (or a shadow ray's
-/// origin and direction), so the number of collisions does not shift the sampler's dimensions.
-Pcg32 tracking_rng(uint64_t a, uint64_t b) { return Pcg32(hash(a), hash(b)); }
 
 /// The path's medium while it random-walks inside a subsurface material: the homogeneous
 /// medium of that material at the entry point (VolPath::m_walk), held by the path itself
@@ -174,13 +171,9 @@ class VolPath {
         const Bsdf* bsdf = nullptr;
     };
 
-    /// The medium a ray leaving `hit` in direction w is in: the MediumInterface side w points
-    /// to if the surface is a transition, else the medium the path was in.
+    /// The medium a ray leaving `hit` in direction w is in (medium_transport.h).
     int medium_after(const SurfaceHit& hit, Vec3 w, int current) const {
-        if (hit.shape < 0) return current;  // a vertex of no shape (a meter's receiver)
-        const ShapeEntry& e = m_scene.shapes[size_t(hit.shape)];
-        if (!e.medium_transition()) return current;
-        return dot(w, hit.ng) > 0 ? e.medium_outside : e.medium_inside;
+        return sr::medium_after(m_scene, hit, w, current);
     }
 
     /// A tentative collision of delta tracking: absorption, real scattering or null
@@ -471,54 +464,12 @@ class VolPath {
         return ls->delta ? c / r_l.average() : c / (r_l + r_u).average();
     }
 
-    /// Transmittance along a shadow ray that starts in `medium`: zero if a surface with a
-    /// material blocks it, else the product over its segments of ratio-tracking estimates
-    /// (with the rescaled probabilities r_l, r_u of the segments' null collisions).
-    SampledSpectrum transmittance(Ray ray, int medium, bool to_point, SampledSpectrum& r_l,
+    /// Transmittance along a shadow ray that starts in `medium` (shadow_transmittance of
+    /// medium_transport.h).
+    SampledSpectrum transmittance(const Ray& ray, int medium, bool to_point, SampledSpectrum& r_l,
                                   SampledSpectrum& r_u, uint64_t key) {
-        const Point3 end = ray.o + ray.d;  // the target of a ray to a point (t_max < 1)
-        SampledSpectrum t_ray(1);
-        Pcg32 rng = tracking_rng(hash(ray.o.x, ray.o.y, ray.o.z, key),
-                                 hash(ray.d.x, ray.d.y, ray.d.z));
-        SurfaceHit h;
-        for (int crossings = 0; crossings <= 256; ++crossings) {
-            ++m_counters.rays;
-            const bool found = m_scene.intersect(ray, h);
-            if (found && h.material >= 0) return SampledSpectrum(0);
-            if (medium >= 0) {
-                Float t_max = found ? h.t : ray.t_max;
-                SampledSpectrum t_maj = sample_t_maj(
-                    m_scene.media[size_t(medium)], ray, t_max, rng.next_float(), rng, m_lambda,
-                    [&](Point3, const MediumProperties& mp, SampledSpectrum sigma_maj,
-                        SampledSpectrum tm) {
-                        SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
-                        for (int i = 0; i < kSpectrumSamples; ++i)
-                            sigma_n[i] = std::max(sigma_n[i], Float(0));
-                        Float pdf = tm[0] * sigma_maj[0];
-                        t_ray *= tm * sigma_n / pdf;
-                        r_l *= tm * sigma_maj / pdf;
-                        r_u *= tm * sigma_n / pdf;
-                        // Russian roulette on low transmittance (unbiased).
-                        SampledSpectrum tr = t_ray / (r_l + r_u).average();
-                        if (tr.max_value() < Float(0.05)) {
-                            if (rng.next_float() < Float(0.75))
-                                t_ray = SampledSpectrum(0);
-                            else
-                                t_ray /= Float(0.25);
-                        }
-                        return !t_ray.is_zero();
-                    });
-                t_ray *= t_maj / t_maj[0];
-                r_l *= t_maj / t_maj[0];
-                r_u *= t_maj / t_maj[0];
-                if (t_ray.has_nonfinite()) return SampledSpectrum(0);
-            }
-            if (t_ray.is_zero()) return SampledSpectrum(0);
-            if (!found) return t_ray;
-            medium = medium_after(h, ray.d, medium);
-            ray = to_point ? spawn_ray_to(h, end) : spawn_ray(h, ray.d);
-        }
-        return SampledSpectrum(0);
+        return shadow_transmittance(m_scene, ray, medium, to_point, m_lambda, r_l, r_u, key,
+                                    m_counters);
     }
 
     const Scene& m_scene;

@@ -179,6 +179,7 @@ class Builder {
     static void add_emitting_primitives(Scene& s, int shape_index, const Make& make) {
         ShapeEntry& e = s.shapes[shape_index];
         e.light_offset = int(s.lights.size());
+        s.light_media.resize(s.lights.size());  // (lights before this shape's)
         if (auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
             for (size_t i = 0; i < mesh->num_triangles(); ++i) {
                 DiffuseAreaLight dl = make(mesh->triangle_area(i));
@@ -202,6 +203,7 @@ class Builder {
             dl.alpha = e.alpha.get();
             s.lights.push_back(dl);
         }
+        s.light_media.resize(s.lights.size(), Scene::LightMedia{e.medium_inside, e.medium_outside});
     }
 
     // ---- media (media.cpp) -------------------------------------------------------------

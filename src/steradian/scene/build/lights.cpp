@@ -49,6 +49,17 @@ void Builder::build_lights(Scene& s) {
         else
             recorded([&] { add_light(s, m_d.lights[i], center, radius); });
         check_power(first, m_d.lights[i].loc);
+        // Lights at infinity emit in vacuum (pbrt-v4's infinite and distant lights' rays
+        // have no medium); the others in the outside medium at their directive. (A
+        // luminaire's opening is an emitting shape: add_emitting_primitives sets its media.)
+        const Light* l0 = first < s.lights.size() ? &s.lights[first] : nullptr;
+        const bool at_infinity = l0 && (std::holds_alternative<DistantLight>(*l0) ||
+                                        std::holds_alternative<UniformInfiniteLight>(*l0) ||
+                                        std::holds_alternative<ImageInfiniteLight>(*l0));
+        int medium = -1;
+        if (!at_infinity && first < s.lights.size())
+            recorded([&] { medium = medium_index(m_d.lights[i].medium, m_d.lights[i].loc); });
+        s.light_media.resize(s.lights.size(), Scene::LightMedia{medium, medium});
     }
     for (const auto& pending : m_pending_area) {
         // Named members, not a structured binding: clang 14 cannot capture a binding in a lambda.

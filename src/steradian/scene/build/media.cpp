@@ -317,17 +317,22 @@ void Builder::build_media() {
 }
 
 void Builder::use_volumetric_kernel(const std::string& what, const std::string& pbrt_path) {
-    if (m_s.integrator.type == "bdpt" || m_s.integrator.type == "lightpath" ||
-        m_s.integrator.type == "mlt") {
+    const bool bidir = m_s.integrator.type == "bdpt" || m_s.integrator.type == "lightpath" ||
+                       m_s.integrator.type == "mlt";
+    if (bidir && what != "participating media") {
+        // The bidirectional kernels trace media themselves (integrators/bdpt/, as pbrt-v4's
+        // bdpt does), but not a subsurface material's interior.
         recorded([&] {
             throw_unsupported(m_d.integrator.loc,
                               "Integrator \"{}\": the scene has {}, which the bidirectional "
-                              "integrators do not support yet (use \"volpath\")",
+                              "integrators do not support (use \"volpath\")",
                               m_s.integrator.type, what);
         });
         return;
     }
-    if (!m_volpath)
+    // (With a bidirectional integrator the volumetric kernel still serves what runs the path
+    // kernel on the scene: meters.)
+    if (!m_volpath && !bidir)
         warning(m_d.integrator.loc,
                 fmt::format("the scene has {}: steradian's \"path\" renders them (as "
                             "\"volpath\"), where pbrt-v4's {}",

@@ -528,6 +528,7 @@ void Parser::parse(Tokenizer& tz, const std::string& dir, int depth) {
                                              "instanced: it is added once, with the current "
                                              "transformation (as in pbrt-v4)",
                                              m_object->name));
+                l.medium = m_gs.media.outside;
                 m_scene.lights.push_back(std::move(l));
                 break;
             }
