@@ -164,7 +164,9 @@ TEST(Radiosity, MeshExportCarriesTheSolution) {
         for (float c : key) on_boundary += std::abs(c) > 1.99f;
         if (on_boundary != 1) continue;
         auto [it, fresh] = at.emplace(key, e);
-        if (!fresh) EXPECT_EQ(it->second, e);
+        if (!fresh) {
+            EXPECT_EQ(it->second, e);
+        }
     }
     std::remove(path.c_str());
 }
