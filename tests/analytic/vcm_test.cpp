@@ -189,6 +189,30 @@ TEST(Vcm, AgreesWithThePathTracerOnTheCornellBox) {
     EXPECT_LT(compare(v, p, 0.06, "vcm/path"), 4.0);
 }
 
+// The same with glass (BK7, dispersive), gold and silver spheres in the box (the scene of
+// tests/data/reference/cornell-box-glass-metal, at 64 x 64 with independent samples): paths
+// through specular vertices and the glass sphere's caustic on the floor, which connections
+// cannot reach and merging carries. The bias bound is the one above, doubled for the
+// caustic's edge, where the irradiance changes across the merging disk.
+TEST(Vcm, AgreesWithThePathTracerOnTheGlassAndMetalCornellBox) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) +
+                              "/tests/data/reference/cornell-box-glass-metal/scene.pbrt");
+    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
+                 "\"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]");
+    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
+    const size_t i = s.find("Integrator \"path\"");
+    ASSERT_NE(i, std::string::npos);
+    const size_t e = s.find('\n', i);
+    auto with = [&](const std::string& integ) { return s.substr(0, i) + integ + s.substr(e); };
+    constexpr int kReps = 4;
+    const BlockStats p =
+        replicas(with("Integrator \"path\" \"integer maxdepth\" [ 8 ]"), 64, 700, kReps);
+    const BlockStats v = replicas(
+        with("Integrator \"vcm\" \"integer maxdepth\" [ 8 ] \"float radius\" [ 1 ]"), 32, 800,
+        kReps);
+    EXPECT_LT(compare(v, p, 0.12, "vcm/path glass and metal"), 4.0);
+}
+
 // Without merging, vcm is a bidirectional path tracer: unbiased, so it agrees with the path
 // tracer within the standard errors alone (this checks the MIS weights of the connections,
 // the light samples, the emitters found and the camera connections sum to one on every path:

@@ -614,6 +614,11 @@ private:
 RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
     const char* kName = "Integrator \"vcm\"";
     check_bidir_scene(scene, "vcm");
+    // check_bidir_scene accepts media (bdpt traces them); vcm's subpaths do not.
+    if (!scene.media.empty() || scene.integrator.volumetric)
+        throw Error(fmt::format("{}: participating media are not supported yet (use \"bdpt\" "
+                                "or \"volpath\")",
+                                kName));
     if (film.has_aux()) throw Error(fmt::format("{}: only the \"rgb\" film is supported yet", kName));
     if (opt.checkpoint || opt.resume)
         throw Error(fmt::format("{}: checkpoints are not supported yet", kName));
