@@ -126,7 +126,9 @@ std::vector<double> solve_hierarchical(const std::vector<HierNode>& nodes,
                     continue;
                 stack.push_back({roots[i], roots[j], false});
                 while (!stack.empty()) {
-                    const auto [p, q, seen] = stack.back();
+                    // (Not a structured binding: clang 14 cannot capture one in a lambda.)
+                    const int p = std::get<0>(stack.back()), q = std::get<1>(stack.back());
+                    const bool seen = std::get<2>(stack.back());
                     stack.pop_back();
                     const HierNode& P = nodes[size_t(p)];
                     const HierNode& Q = nodes[size_t(q)];
