@@ -49,6 +49,54 @@ def blocks(lum, b=16):
     return lum[: h // b * b, : w // b * b].reshape(h // b, b, w // b, b).mean(axis=(1, 3))
 
 
+def render_timed(exe, scene, spp, seed, out):
+    """Renders `scene` at `spp` with `seed` on 2 threads to `out` (a .pfm); returns its luminance
+    and the render's CPU seconds (user + system, getrusage of the child)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([exe, "render", str(scene), "-q", "--spp", str(spp), "--seed", str(seed),
+                    "--threads", "2", "-o", str(out)], check=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return read_pfm(out) @ Y, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def compare_third(doc, third, default_count, unit="spp"):
+    """path, bdpt and `third` on the caustic (maxdepth 8 for all), each RUNS times: the RMS
+    relative block error, the image mean's relative error, and the errors' ratios at equal CPU
+    time (bdpt / path, third / path, third / bdpt). The command line of caustic_mlt.py and
+    caustic_vcm.py: STERADIAN REFERENCE.exr [PATH_SPP] [BDPT_SPP] [THIRD_COUNT] [RUNS]."""
+    if len(sys.argv) < 3:
+        sys.exit(doc)
+    exe = str(pathlib.Path(sys.argv[1]).resolve())
+    ref_img = read_exr(sys.argv[2]) @ Y
+    ref = blocks(ref_img)
+    spp = {"path": int(sys.argv[3]) if len(sys.argv) > 3 else 64,
+           "bdpt": int(sys.argv[4]) if len(sys.argv) > 4 else 16,
+           third: int(sys.argv[5]) if len(sys.argv) > 5 else default_count}
+    runs = int(sys.argv[6]) if len(sys.argv) > 6 else 3
+    tmp = pathlib.Path(tempfile.mkdtemp())
+    text = SCENE.read_text()
+    res = {}
+    for name in ("path", "bdpt", third):
+        scene = tmp / f"{name}.pbrt"
+        scene.write_text(text.replace('Integrator "bdpt" "integer maxdepth" [ 8 ]',
+                                      f'Integrator "{name}" "integer maxdepth" [ 8 ]'))
+        mses, secs, mean_err = [], [], []
+        for seed in range(runs):
+            img, cpu = render_timed(exe, scene, spp[name], seed, tmp / f"{name}-{seed}.pfm")
+            secs.append(cpu)
+            rel = (blocks(img) - ref) / ref
+            mses.append(float(np.mean(rel * rel)))
+            mean_err.append(img.mean() / ref_img.mean() - 1)
+        res[name] = (np.mean(mses), np.mean(secs))
+        print(f"{name:5s} {spp[name]:4d} {unit if name == third else 'spp'}: CPU "
+              f"{np.mean(secs):7.2f} s, RMS relative block error {np.sqrt(np.mean(mses)):.4f} "
+              f"(runs {', '.join(f'{np.sqrt(m):.4f}' for m in mses)}); image mean's relative "
+              f"error RMS {np.sqrt(np.mean(np.square(mean_err))):.4f}")
+    for x, y in (("bdpt", "path"), (third, "path"), (third, "bdpt")):
+        (mx, tx), (my, ty) = res[x], res[y]
+        print(f"error at equal CPU time, {x} / {y}: {np.sqrt(mx * tx / (my * ty)):.3f}")
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -80,13 +128,9 @@ def main():
         scene.write_text(text.replace('Integrator "bdpt"', f'Integrator "{name}"'))
         mses, secs, kept = [], [], []
         for seed in range(runs):
-            out = tmp / f"{name}-{seed}.pfm"
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
-            subprocess.run([exe, "render", str(scene), "-q", "--spp", str(spp[name]), "--seed",
-                            str(seed), "--threads", "2", "-o", str(out)], check=True)
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)
-            secs.append((after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
-            rel = (blocks(read_pfm(out) @ Y) - ref) / ref
+            img, cpu = render_timed(exe, scene, spp[name], seed, tmp / f"{name}-{seed}.pfm")
+            secs.append(cpu)
+            rel = (blocks(img) - ref) / ref
             mses.append(float(np.mean(rel * rel)))
             kept.append(float(np.mean(rel[keep] ** 2)))
         res[name] = (np.mean(mses), np.mean(secs))

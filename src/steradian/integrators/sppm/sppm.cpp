@@ -16,6 +16,7 @@
 #include "steradian/core/error.h"
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
+#include "steradian/integrators/iterations.h"
 #include "steradian/integrators/path/visible_point.h"
 #include "steradian/integrators/progress.h"
 #include "steradian/sampling/hash.h"
@@ -151,22 +152,6 @@ private:
     std::vector<uint32_t> m_start, m_items;
 };
 
-/// The wavelength sample of iteration i: the base-3 radical inverse of i (the van der Corput
-/// sequence in base 3), as pbrt-v4 takes it, so the iterations' wavelengths are stratified;
-/// rotated (Cranley-Patterson) by an offset hashed from the seed, so that renders with other
-/// seeds are independent estimates (pbrt-v4 does not rotate it).
-Float pass_wavelength_sample(uint64_t i, uint64_t seed) {
-    double inv = 1.0 / 3, f = inv, r = 0;
-    while (i > 0) {
-        r += double(i % 3) * f;
-        i /= 3;
-        f *= inv;
-    }
-    r += double(mix_bits(seed ^ 0x5350504d5f4c414dULL) >> 11) * 0x1.0p-53;
-    r -= std::floor(r);
-    return Float(std::min(r, 1 - 1e-7));
-}
-
 struct CameraThread {
     std::unique_ptr<Sampler> sampler;
     PathCounters counters;
@@ -178,9 +163,9 @@ struct PhotonThread {
     PathCounters counters;
 };
 
-bool finite3(const std::array<double, 3>& v) {
-    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
+/// Rotates the iterations' wavelengths (pass_wavelength_sample) apart from the other
+/// iterative integrators'.
+constexpr uint64_t kWavelengthSalt = 0x5350504d5f4c414dULL;
 
 }  // namespace
 
@@ -272,7 +257,7 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
         const double iter_t0 = elapsed();
         const int iter = done;
         const SampledWavelengths pass_lambda =
-            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed));
+            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
 
         // ---- camera pass: each pixel's path to its visible point --------------------------
         arena.execute([&] {
@@ -462,18 +447,9 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
         });
         ++done;
 
-        const double iter_seconds = elapsed() - iter_t0;
-        if (done < iterations) {
-            if (opt.stop && opt.stop->load()) {
-                stats.interrupted = true;
-                break;
-            }
-            // A whole iteration must fit in the budget (the first always completes).
-            if (opt.time_budget > 0 && elapsed() + iter_seconds > opt.time_budget) {
-                stats.time_limited = true;
-                break;
-            }
-        }
+        if (stop_before_next_iteration(opt, done, iterations, elapsed(), elapsed() - iter_t0,
+                                       stats))
+            break;
     }
     progress.finish();
 

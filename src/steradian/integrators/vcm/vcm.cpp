@@ -17,6 +17,7 @@
 #include "steradian/integrators/bdpt/bdpt.h"
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
+#include "steradian/integrators/iterations.h"
 #include "steradian/integrators/progress.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/sampling/padded_sobol_sampler.h"
@@ -57,24 +58,6 @@ struct Splat {
     Point2 p;
     std::array<double, 3> xyz;
 };
-
-/// The wavelength sample of iteration i (as sppm's passes take it): the base-3 radical
-/// inverse of i, rotated (Cranley-Patterson) by an offset hashed from the seed.
-Float pass_wavelength_sample(uint64_t i, uint64_t seed) {
-    double inv = 1.0 / 3, f = inv, r = 0;
-    while (i > 0) {
-        r += double(i % 3) * f;
-        i /= 3;
-        f *= inv;
-    }
-    r += double(mix_bits(seed ^ 0x56434d5f4c414d42ULL) >> 11) * 0x1.0p-53;
-    r -= std::floor(r);
-    return Float(std::min(r, 1 - 1e-7));
-}
-
-bool finite3(const std::array<double, 3>& v) {
-    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
 
 /// The hash grid of the light vertices (SmallVCM's HashGrid): cells 2 r wide, each vertex
 /// in the cell of its position, the cells hashed to a power-of-two count of buckets, each
@@ -609,6 +592,10 @@ private:
     Float m_vm_factor = 0, m_vc_factor = 0, m_vc = 1, m_merge_norm = 0;
 };
 
+/// Rotates the iterations' wavelengths (pass_wavelength_sample) apart from the other
+/// iterative integrators'.
+constexpr uint64_t kWavelengthSalt = 0x56434d5f4c414d42ULL;
+
 }  // namespace
 
 RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
@@ -698,7 +685,7 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
         // 2012, sec. 5).
         const Float radius = Float(double(r1) * std::pow(double(iter + 1), (double(vp.alpha) - 1) / 2));
         const SampledWavelengths lambda =
-            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed));
+            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
         vcm.start_iteration(radius, n_light, lambda);
 
         // ---- light pass, in slabs of chunks whose splats are added in chunk order ----------
@@ -781,18 +768,9 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
         });
         ++done;
 
-        const double iter_seconds = elapsed() - iter_t0;
-        if (done < iterations) {
-            if (opt.stop && opt.stop->load()) {
-                stats.interrupted = true;
-                break;
-            }
-            // A whole iteration must fit in the budget (the first always completes).
-            if (opt.time_budget > 0 && elapsed() + iter_seconds > opt.time_budget) {
-                stats.time_limited = true;
-                break;
-            }
-        }
+        if (stop_before_next_iteration(opt, done, iterations, elapsed(), elapsed() - iter_t0,
+                                       stats))
+            break;
     }
     progress.finish();
 
