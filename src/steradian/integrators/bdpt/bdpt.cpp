@@ -169,6 +169,53 @@ public:
         return pdf * inv;
     }
 
+    /// Specular chains. A vertex x_i that a non-specular vertex v generates gets an area
+    /// density from its own segment's geometry (convert_density: cos_i / d^2). When x_i is
+    /// specular, the path runs on deterministically through the chain x_i .. x_j to the next
+    /// non-specular vertex z, and what the strategies really differ by is the density of z:
+    /// v's solid-angle density times the chain's Jacobian dw_v / dA_z = G / cos_v, where the
+    /// chain's generalized geometric term G is the same from either end (when v and z are in
+    /// media of one refractive index). A strategy that samples the chain from v's side and
+    /// one that samples it from z's side thus compare p_v / cos_v with p_z / cos_z, G
+    /// cancelling; the end segments' conversions leave instead a factor G(v, x_i) / G(x_j, z)
+    /// between them, which can be wrong by orders of magnitude (a caustic point close under
+    /// a glass sphere lit by a distant light weighs the camera's strategy as if it sampled
+    /// those paths far better than light tracing does). So both densities generated into a
+    /// chain are converted with one common term, that of the chain unfolded into a straight
+    /// line of its length L (G = cos_v cos_z / L^2, exact for a plane mirror): the factor
+    /// returned here turns cos_i / d^2 into cos_z / L^2. v, first and z are indices of at(),
+    /// the chain running from v through first (its neighbour) to z, in steps of one.
+    template <class At>
+    static double chain_factor(At&& at, int v, int first, int z) {
+        const Vertex& V = at(v);
+        const Vertex& Z = at(z);
+        if (V.infinite || Z.infinite) return 1;
+        const int step = z > v ? 1 : -1;
+        double L = 0;
+        for (int k = v; k != z; k += step) L += double(length(at(k + step).p - at(k).p));
+        const Vertex& F = at(first);
+        const Vec3 wf = F.p - V.p, wz = Z.p - at(z - step).p;
+        const double d = double(length(wf)), dz = double(length(wz));
+        if (!(L > 0 && d > 0 && dz > 0)) return 1;
+        const double cos_f = F.on_surface() ? double(absdot(F.ng, wf)) / d : 1;
+        const double cos_z = Z.on_surface() ? double(absdot(Z.ng, wz)) / dz : 1;
+        if (!(cos_f > 0 && cos_z > 0)) return 1;
+        const double r = (cos_z / (L * L)) / (cos_f / (d * d));
+        return std::isfinite(r) ? r : 1;
+    }
+    /// Calls f(i, j) for each maximal run x_i .. x_j of specular vertices of the path
+    /// x_0 .. x_{n-1} (at(k)), whose ends x_0 and x_{n-1} are not specular.
+    template <class At, class F>
+    static void for_each_chain(int n, At&& at, F&& f) {
+        for (int k = 1; k < n - 1; ++k) {
+            if (!at(k).delta) continue;
+            int j = k;
+            while (j + 1 < n - 1 && at(j + 1).delta) ++j;
+            f(k, j);
+            k = j;
+        }
+    }
+
     /// Density (at `next`) with which a light vertex v emits towards next.
     Float pdf_light(const Vertex& v, const Vertex& next) const {
         Vec3 w = next.p - v.p;
@@ -549,6 +596,25 @@ public:
         if (qs) qs->pdf_rev = pdf(*pt, ptm, *qs);
         if (qsm) qsm->pdf_rev = pdf(*qs, pt, *qsm);
 
+        // The densities generated into specular chains (chain_factor), set for the
+        // computation and restored after it.
+        const int n = s + t;
+        auto at = [&](int k) -> Vertex& {
+            return k < s ? L[size_t(k)] : C[size_t(n - 1 - k)];
+        };
+        m_chain_saved.clear();
+        for_each_chain(n, at, [&](int i, int j) {
+            // x_i's density from x_{i-1} (the light's side), x_j's from x_{j+1}.
+            Float& from_light = i < s ? at(i).pdf_fwd : at(i).pdf_rev;
+            Float& from_camera = j < s ? at(j).pdf_rev : at(j).pdf_fwd;
+            const double fl = chain_factor(at, i - 1, i, j + 1);
+            const double fc = chain_factor(at, j + 1, j, i - 1);
+            m_chain_saved.push_back({&from_light, from_light});
+            m_chain_saved.push_back({&from_camera, from_camera});
+            from_light = Float(double(from_light) * fl);
+            from_camera = Float(double(from_camera) * fc);
+        });
+
         double sum = 0, r = 1;
         for (int i = t - 1; i > 0; --i) {
             r *= double(remap0(C[size_t(i)].pdf_rev)) / remap0(C[size_t(i)].pdf_fwd);
@@ -561,6 +627,8 @@ public:
             if (!L[size_t(i)].delta && !delta_before) sum += r * r;
         }
 
+        for (size_t k = m_chain_saved.size(); k-- > 0;)
+            *m_chain_saved[k].first = m_chain_saved[k].second;
         if (pt) pt->pdf_rev = pt_rev, pt->delta = pt_delta;
         if (ptm) ptm->pdf_rev = ptm_rev;
         if (qs) qs->pdf_rev = qs_rev, qs->delta = qs_delta;
@@ -754,6 +822,14 @@ public:
                                     ? 1
                                     : pdf(x[size_t(i + 1)], &x[size_t(i + 2)], x[size_t(i)]);
         }
+        // The walks' own densities (the subpaths below get these), then those of the
+        // strategies' comparison: into specular chains as mis_weight sets them.
+        const std::vector<double> pl_walk = pl, pc_walk = pc;
+        auto xat = [&](int k) -> const Vertex& { return x[size_t(k)]; };
+        for_each_chain(n, xat, [&](int i, int j) {
+            pl[size_t(i)] *= chain_factor(xat, i - 1, i, j + 1);
+            pc[size_t(j)] *= chain_factor(xat, j + 1, j, i - 1);
+        });
         auto valid = [&](int s) {
             if (s == 0) return true;
             if (s == 1 && n == 2) return false;  // (1, 1) is not a bdpt strategy
@@ -776,13 +852,13 @@ public:
             std::vector<Vertex> L(x.begin(), x.begin() + s), C;
             for (int i = n - 1; i >= s; --i) C.push_back(x[size_t(i)]);
             for (int i = 0; i < s; ++i) {
-                L[size_t(i)].pdf_fwd = Float(pl[size_t(i)]);
-                L[size_t(i)].pdf_rev = Float(pc[size_t(i)]);
+                L[size_t(i)].pdf_fwd = Float(pl_walk[size_t(i)]);
+                L[size_t(i)].pdf_rev = Float(pc_walk[size_t(i)]);
             }
             for (int j = 0; j < t; ++j) {
                 const int i = n - 1 - j;
-                C[size_t(j)].pdf_fwd = Float(pc[size_t(i)]);
-                C[size_t(j)].pdf_rev = Float(pl[size_t(i)]);
+                C[size_t(j)].pdf_fwd = Float(pc_walk[size_t(i)]);
+                C[size_t(j)].pdf_rev = Float(pl_walk[size_t(i)]);
             }
             // A specular vertex's densities through it are zero in the walks.
             auto zero_delta = [&](std::vector<Vertex>& P) {
@@ -811,6 +887,8 @@ private:
     PathCounters& m_counters;
     const MaterialContext m_mctx;
     const bool m_media;       ///< the scene has media: connections track transmittance
+    /// mis_weight's densities changed for specular chains, with their values to restore.
+    mutable std::vector<std::pair<Float*, Float>> m_chain_saved;
     const uint64_t m_tr_key;  ///< keys the transmittance streams of this sample's connections
 };
 
