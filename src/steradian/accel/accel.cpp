@@ -17,7 +17,13 @@ struct UserShape {
     const Cylinder* cylinder = nullptr;
     const AlphaMask* alpha = nullptr;
     unsigned geom_id = 0;
+    unsigned mask = 0xFFFFFFFFu;  ///< the geometry's mask (tested here as well as by Embree)
 };
+
+/// Geometry masks: every geometry is hit by the rays of intersect() and occluded() (mask
+/// ~0); an interface (a shape without a material: a luminous opening, a medium boundary)
+/// lacks kScatteringBit, so the rays of occluded_by_surface() pass through it.
+constexpr unsigned kScatteringBit = 1u, kInterfaceMask = 2u;
 
 const Transform& object_transform(const UserShape& u) {
     return u.sphere ? u.sphere->world_from_object
@@ -138,7 +144,7 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
     RTCRayN* ray = RTCRayHitN_RayN(rh, args->N);
     RTCHitN* hit = RTCRayHitN_HitN(rh, args->N);
     for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
+        if (args->valid[i] != -1 || !(RTCRayN_mask(ray, args->N, i) & us->mask)) continue;
         Point3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
                  RTCRayN_org_z(ray, args->N, i));
         Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
@@ -162,7 +168,7 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
     const auto* us = static_cast<const UserShape*>(args->geometryUserPtr);
     RTCRayN* ray = args->ray;
     for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
+        if (args->valid[i] != -1 || !(RTCRayN_mask(ray, args->N, i) & us->mask)) continue;
         Point3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
                  RTCRayN_org_z(ray, args->N, i));
         Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
@@ -214,6 +220,7 @@ struct Accel::Impl {
     std::vector<std::vector<int>> proto_geom_shape;   ///< per prototype: geomID -> shape
     std::vector<int> inst_geom_to_instance;           ///< top geomID -> instance
     std::vector<std::unique_ptr<UserShape>> user_shapes;
+    bool masks = false;  ///< the Embree build tests ray masks (EMBREE_RAY_MASK)
 
     /// Attaches shape `shape_index` to scene `s`; a triangle mesh is built with `quality`
     /// (Embree builds each mesh of a RTC_BUILD_QUALITY_LOW scene on its own, with the
@@ -260,6 +267,7 @@ struct Accel::Impl {
             us->disk = std::get_if<Disk>(&e.geometry);
             us->cylinder = std::get_if<Cylinder>(&e.geometry);
             us->alpha = e.alpha.get();
+            if (e.material < 0) us->mask = kInterfaceMask;
             g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
             rtcSetGeometryUserData(g, us.get());
@@ -269,6 +277,7 @@ struct Accel::Impl {
             user = us.get();
             user_shapes.push_back(std::move(us));
         }
+        if (masks && e.material < 0) rtcSetGeometryMask(g, kInterfaceMask);
         rtcCommitGeometry(g);
         unsigned id = rtcAttachGeometry(s, g);
         rtcReleaseGeometry(g);
@@ -404,6 +413,7 @@ Accel::Accel(const GeometryView& geometry) : m(std::make_unique<Impl>()) {
     m->device = rtcNewDevice("verbose=0");
     if (!m->device) throw Error("could not create the Embree device");
     rtcSetDeviceErrorFunction(m->device, error_callback, nullptr);
+    m->masks = rtcGetDeviceProperty(m->device, RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED) != 0;
 
     // Prototypes first: each its own Embree scene, instanced below.
     for (const Prototype& proto : geometry.prototypes) {
@@ -507,13 +517,14 @@ unsigned Accel::intersect_packet(const Ray* rays, unsigned active, SurfaceHit* h
     return hit_mask;
 }
 
-unsigned Accel::occluded_packet(const Ray* rays, unsigned active) const {
+unsigned Accel::occluded_packet_masked(const Ray* rays, unsigned active, unsigned mask) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(32) RTCRay8 r8;
     alignas(32) int valid[8];
     put_packet(rays, active, valid, r8);
+    for (int i = 0; i < 8; ++i) r8.mask[i] = mask;
     rtcOccluded8(valid, m->top, &ctx, &r8);
     unsigned blocked = 0;
     for (int i = 0; i < 8; ++i)
@@ -521,7 +532,39 @@ unsigned Accel::occluded_packet(const Ray* rays, unsigned active) const {
     return blocked;
 }
 
-bool Accel::occluded(const Ray& ray) const {
+bool Accel::occluded(const Ray& ray) const { return occluded_masked(ray, 0xFFFFFFFFu); }
+
+bool Accel::occluded_by_surface(const Ray& ray) const {
+    if (m->masks) return occluded_masked(ray, kScatteringBit);
+    // Without ray masks: step through the interfaces along the ray.
+    Ray r = ray;
+    SurfaceHit h;
+    for (int crossings = 0; crossings < 256; ++crossings) {
+        if (!intersect(r, h)) return false;
+        if (h.material >= 0) return true;
+        const Float t = h.t * (1 + Float(1e-5)) + Float(1e-7);
+        if (!(t < r.t_max)) return false;
+        r.o = r.o + r.d * t;
+        r.t_max -= t;
+    }
+    return true;
+}
+
+unsigned Accel::occluded_by_surface_packet(const Ray* rays, unsigned active) const {
+    if (!m->masks) {
+        unsigned blocked = 0;
+        for (int i = 0; i < kPacket; ++i)
+            if (((active >> i) & 1) && occluded_by_surface(rays[i])) blocked |= 1u << i;
+        return blocked;
+    }
+    return occluded_packet_masked(rays, active, kScatteringBit);
+}
+
+unsigned Accel::occluded_packet(const Ray* rays, unsigned active) const {
+    return occluded_packet_masked(rays, active, 0xFFFFFFFFu);
+}
+
+bool Accel::occluded_masked(const Ray& ray, unsigned mask) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r;
@@ -534,7 +577,7 @@ bool Accel::occluded(const Ray& ray) const {
     r.tnear = 0;
     r.tfar = ray.t_max;
     r.time = 0;
-    r.mask = 0xFFFFFFFF;
+    r.mask = mask;
     r.id = 0;
     r.flags = 0;
     rtcOccluded1(m->top, &ctx, &r);

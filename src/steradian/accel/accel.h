@@ -29,9 +29,16 @@ public:
     /// occluded() for up to kPacket rays (the bits of `active`) as one packet; returns the
     /// bits of the rays that are blocked.
     unsigned occluded_packet(const Ray* rays, unsigned active) const;
+    /// occluded() by a surface that scatters: an interface (a shape without a material: a
+    /// luminous opening, a medium boundary) lets the ray through (Embree's ray masks; where
+    /// the Embree build lacks them, by stepping through the interfaces).
+    bool occluded_by_surface(const Ray& ray) const;
+    unsigned occluded_by_surface_packet(const Ray* rays, unsigned active) const;
     Bounds3 bounds() const;
 
 private:
+    bool occluded_masked(const Ray& ray, unsigned mask) const;
+    unsigned occluded_packet_masked(const Ray* rays, unsigned active, unsigned mask) const;
     struct Impl;
     std::unique_ptr<Impl> m;
 };

@@ -36,4 +36,10 @@ unsigned Scene::occluded_packet(const Ray* rays, unsigned active) const {
     return m_accel->occluded_packet(rays, active);
 }
 
+bool Scene::occluded_by_surface(const Ray& ray) const { return m_accel->occluded_by_surface(ray); }
+
+unsigned Scene::occluded_by_surface_packet(const Ray* rays, unsigned active) const {
+    return m_accel->occluded_by_surface_packet(rays, active);
+}
+
 }  // namespace sr

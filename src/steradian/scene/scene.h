@@ -157,6 +157,11 @@ public:
     /// occluded() for up to kRayPacket rays at once (the bits of `active`); returns the bits
     /// of the blocked ones.
     unsigned occluded_packet(const Ray* rays, unsigned active) const;
+    /// Whether a surface that scatters light blocks the ray: interfaces (shapes without a
+    /// material: luminous openings, medium boundaries) let it through. The radiosity pass's
+    /// visibility between patches.
+    bool occluded_by_surface(const Ray& ray) const;
+    unsigned occluded_by_surface_packet(const Ray* rays, unsigned active) const;
     MaterialContext material_context() const {
         return {&spectrum_textures, &float_textures, &materials};
     }

@@ -43,11 +43,13 @@ struct HierStats {
 
 /// Solves B = rho (E + F B) on the leaves. rho and E: per unknown, `bands` values each;
 /// ybar: the bands' photopic weights (for the refinement's power estimates). Returns B per
-/// unknown (`bands` values each). Deterministic on any number of threads.
+/// unknown (`bands` values each). Deterministic on any number of threads. `visible_batch`
+/// (optional) answers what `visible` answers, for the rays between two nodes at once.
 std::vector<double> solve_hierarchical(const std::vector<HierNode>& nodes,
                                        const std::vector<int>& roots, const std::vector<double>& rho,
                                        const std::vector<double>& E, const std::vector<double>& ybar,
                                        const Visibility& visible, const HierParams& params,
-                                       tbb::task_arena& arena, HierStats& stats);
+                                       tbb::task_arena& arena, HierStats& stats,
+                                       const VisibilityBatch& visible_batch = nullptr);
 
 }  // namespace sr::radiosity

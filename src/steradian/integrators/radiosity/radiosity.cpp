@@ -688,16 +688,16 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     for (int si : scene.top_level_shapes)
         has_interface = has_interface || scene.shapes[size_t(si)].material < 0;
     const radiosity::Visibility visible = [&](DVec3 o, DVec3 t) {
-        Ray ray{o.f(), (t - o).f(), 1 - Float(1e-4)};
-        if (!scene.occluded(ray)) return true;
-        if (!has_interface) return false;
-        SurfaceHit hit;
-        for (int crossings = 0; crossings < 64; ++crossings) {
-            if (!scene.intersect(ray, hit)) return true;
-            if (hit.material >= 0) return false;
-            ray = spawn_ray_to(hit, Point3(Float(t.x), Float(t.y), Float(t.z)));
-        }
-        return false;
+        const Ray ray{o.f(), (t - o).f(), 1 - Float(1e-4)};
+        return has_interface ? !scene.occluded_by_surface(ray) : !scene.occluded(ray);
+    };
+    const radiosity::VisibilityBatch visible_batch = [&](const DVec3* o, const DVec3* t, int n) {
+        Ray packet[Scene::kRayPacket];
+        for (int i = 0; i < n; ++i) packet[i] = Ray{o[i].f(), (t[i] - o[i]).f(), 1 - Float(1e-4)};
+        const unsigned bits = (1u << n) - 1;
+        const unsigned blocked = has_interface ? scene.occluded_by_surface_packet(packet, bits)
+                                               : scene.occluded_packet(packet, bits);
+        return bits & ~blocked;
     };
     S.m_B.assign(N * kBands, 0.f);
     const auto t_links = Clock::now();
@@ -736,7 +736,8 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         radiosity::HierStats hs;
         const std::vector<double> yb(ybar.begin(), ybar.end());
         const std::vector<double> B =
-            radiosity::solve_hierarchical(hn, roots, rho, E, yb, visible, hp, arena, hs);
+            radiosity::solve_hierarchical(hn, roots, rho, E, yb, visible, hp, arena, hs,
+                                          visible_batch);
         for (size_t i = 0; i < N * kBands; ++i) S.m_B[i] = float(std::max(0.0, B[i]));
         st.pairs = hs.links;
         st.seconds_sweeps = hs.seconds_sweeps;

@@ -257,18 +257,21 @@ double PhotometricData::intensity_direction(double x, double y, double z) const 
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return 0.0;
     if (x == 0 && y == 0 && z == 0) return 0.0;
     switch (type) {
+        // (sqrt rather than hypot: the arguments are directions, far from overflow, and
+        // hypot's care costs as much as an atan2.)
         case PhotometricType::C: {
-            double gamma = std::atan2(std::hypot(x, y), -z) / kDeg;
-            double c = std::atan2(y, x) / kDeg;
+            const double gamma = std::atan2(std::sqrt(x * x + y * y), -z) / kDeg;
+            // A rotationally symmetric file (one C plane) needs no C angle.
+            const double c = horizontal_angles.size() == 1 ? 0.0 : std::atan2(y, x) / kDeg;
             return table_intensity(c, gamma);
         }
         case PhotometricType::B: {
-            double hh = std::atan2(-y, std::hypot(x, z)) / kDeg;
+            double hh = std::atan2(-y, std::sqrt(x * x + z * z)) / kDeg;
             double vv = std::atan2(x, -z) / kDeg;
             return table_intensity(hh, vv);
         }
         case PhotometricType::A: {
-            double vv = std::atan2(z, std::hypot(x, y)) / kDeg;
+            double vv = std::atan2(z, std::sqrt(x * x + y * y)) / kDeg;
             double hh = std::atan2(-y, x) / kDeg;
             return table_intensity(hh, vv);
         }
