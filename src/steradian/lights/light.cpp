@@ -375,6 +375,27 @@ SampledSpectrum light_emitted(const Light& light, Point3 p, Normal3 n, Vec3 w,
     return SampledSpectrum(0);
 }
 
+void light_emitted(const Light& light, Point3 p, Normal3 n, Vec3 w,
+                   const SampledWavelengths* lambdas, int count, SampledSpectrum* out) {
+    const auto* a = std::get_if<DiffuseAreaLight>(&light);
+    if (!a || !a->goniometric) {
+        for (int i = 0; i < count; ++i) out[i] = light_emitted(light, p, n, w, lambdas[i]);
+        return;
+    }
+    // A luminous opening: the intensity's factor once (GoniometricEmission::radiance), then
+    // the spectrum per set.
+    const GoniometricEmission& g = *a->goniometric;
+    Float f = 0;
+    if (!(a->alpha && a->masked(p)) && (g.body == LuminousBody::Flat || dot(n, w) > 0)) {
+        const Vec3 l = g.profile.local(w);
+        const Float proj = g.projected_area(l);
+        const Float i = proj > 0 ? Float(g.profile.data->intensity_direction(l.x, l.y, l.z)) : 0;
+        if (i > 0) f = g.scale * i / proj;
+    }
+    for (int k = 0; k < count; ++k)
+        out[k] = f > 0 ? g.spectrum.sample(lambdas[k]) * f : SampledSpectrum(0);
+}
+
 void pdf_le(const Light& light, Point3 p, Normal3 n, Vec3 w, Float& pdf_pos, Float& pdf_dir) {
     pdf_pos = pdf_dir = 0;
     if (const auto* a = std::get_if<DiffuseAreaLight>(&light)) {

@@ -373,6 +373,11 @@ std::optional<LightLeSample> sample_le(const Light& light, Point2 u_pos, Point2 
 /// zero for distant and infinite lights (whose rays start nowhere a path can meet).
 SampledSpectrum light_emitted(const Light& light, Point3 p, Normal3 n, Vec3 w,
                               const SampledWavelengths& lambda);
+/// light_emitted at each of n sets of wavelengths (out[i] for lambdas[i]), the direction's
+/// factor (a photometric table's lookup) evaluated once: what a light emits is that factor
+/// times its spectrum.
+void light_emitted(const Light& light, Point3 p, Normal3 n, Vec3 w,
+                   const SampledWavelengths* lambdas, int count, SampledSpectrum* out);
 /// The densities sample_le() has of emitting from p (normal n; ignored for lights without a
 /// surface) in the unit direction w (for infinite and distant lights, w is the direction
 /// light travels; pdf_pos is the disk's).

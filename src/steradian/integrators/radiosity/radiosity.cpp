@@ -93,14 +93,18 @@ public:
                                      : spawn_ray_between(v, ls->p_light, ls->p_error, ls->n_light);
         if (m_scene.occluded(shadow)) return 1;
         const double f = w * cosv / double(ls->pdf_sa);
+        // An area light's sample is the same point for every wavelength: only its radiance
+        // there is evaluated for the other groups (its direction's factor once).
+        std::array<SampledSpectrum, kGroups> Lg;
+        const int rest = first_group + groups - (g0 + 1);
+        if (rest > 0 && std::holds_alternative<DiffuseAreaLight>(light))
+            light_emitted(light, ls->p_light, ls->n_light, -ls->wi, &m_groups[size_t(g0 + 1)],
+                          rest, &Lg[size_t(g0 + 1)]);
         for (int g = g0; g < first_group + groups; ++g) {
             SampledSpectrum L = ls->L;
             if (g != g0) {
-                // An area light's sample is the same point for every wavelength: only its
-                // radiance there is evaluated again.
                 if (std::holds_alternative<DiffuseAreaLight>(light)) {
-                    L = light_emitted(light, ls->p_light, ls->n_light, -ls->wi,
-                                      m_groups[size_t(g)]);
+                    L = Lg[size_t(g)];
                 } else {
                     auto lg = sample_li(light, ctx, u, m_groups[size_t(g)]);
                     L = lg ? lg->L : SampledSpectrum(0);
