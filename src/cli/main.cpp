@@ -387,6 +387,8 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
                                     method, reason));
     if (!a.quiet && !is_worker())
         std::fprintf(stderr, "steradian: method %s (%s)\n", method.c_str(), reason.c_str());
+    if (method == "light" && (resume || !a.checkpoint.empty()))
+        throw sr::Error("--method light: checkpoints are not supported with light tracing yet");
     std::unique_ptr<sr::RadiositySolution> radiosity;
     if (method == "radiosity")
         radiosity =
@@ -396,6 +398,7 @@ int run_measure(MeasureArgs a, const std::function<bool(const char*)>& given) {
     std::optional<sr::WorkCoordinator> coord = make_coordinator();
     sr::MeasureOptions mo;
     mo.radiosity = radiosity.get();
+    mo.light_trace = method == "light";
     mo.replicas = a.replicas;
     mo.first_samples = a.pilot_samples;
     mo.deterministic_direct = !a.sampled_direct;
@@ -953,8 +956,10 @@ int main(int argc, char** argv) {
     measure->add_flag("-q,--quiet", margs.quiet, "no summary on stderr");
     measure->add_option("--method", margs.method,
                         "auto (default: radiosity if every surface is diffuse or the scene's "
-                        "Integrator is \"radiosity\", else path), path or radiosity")
-        ->check(CLI::IsMember({"auto", "path", "radiosity"}));
+                        "Integrator is \"radiosity\", else path), path, radiosity, or light "
+                        "(cell-averaged illuminance grids by light tracing, every cell at once; "
+                        "other meters by path)")
+        ->check(CLI::IsMember({"auto", "path", "radiosity", "light"}));
     measure->add_option("--replicas", margs.replicas,
                         "independent replicas per value, whose spread gives the standard error "
                         "(default 32)")

@@ -14,6 +14,7 @@
 #include "steradian/scene/build.h"
 #include "steradian/scene/pbrt/parser.h"
 #include "steradian/spectrum/spectrum.h"
+#include "support/block_stats.h"
 #include "support/render_util.h"
 
 namespace sr::test {
@@ -521,6 +522,99 @@ TEST(Glare, MeterParametersAreChecked) {
     EXPECT_EQ(error_of("Meter \"ugr\" \"point3 p\" [0 0 0] \"vector3 direction\" [0 0 1] "
                        "\"vector3 up\" [0 1 0]\n"),
               "");
+}
+
+}  // namespace
+}  // namespace sr::test
+
+namespace sr::test {
+namespace {
+
+MeasureResult measure_light_traced(const std::string& text, double rel_error, int threads,
+                                   const std::string& base) {
+    MeasureOptions o;
+    o.rel_error = rel_error;
+    o.threads = threads;
+    o.seed = 7;
+    o.light_trace = true;
+    return measure(build_scene(parse_pbrt_string(text, "<test>", base), {}), o);
+}
+
+/// E of the point source I(gamma) = 1000 cos(gamma) cd at height h above a plane, averaged
+/// over the cell [x0, x0 + w] x [y0, y0 + w] of the plane (midpoint rule on 64 x 64 points:
+/// exact to 1e-5 for this smooth E): E = 1000 cos^4(gamma) / h^2.
+double cos_source_cell(double h, double x0, double y0, double w) {
+    constexpr int kN = 64;
+    double e = 0;
+    for (int j = 0; j < kN; ++j)
+        for (int i = 0; i < kN; ++i) {
+            const double x = x0 + w * (i + 0.5) / kN, y = y0 + w * (j + 0.5) / kN;
+            const double c = h / std::sqrt(h * h + x * x + y * y);
+            e += 1000 * std::pow(c, 4) / (h * h) / (kN * kN);
+        }
+    return e;
+}
+
+// Light tracing (measure --method light): CIE 171 case 5.2's point source 3 m above a black
+// floor, with two cell-averaged grids of 4 x 4 cells of 0.8 m: one on the floor (the
+// particles end there: the crossing at a segment's end counts) and one in the air 1 m above
+// it (a virtual plane the particles pass through). Each cell must match the closed form
+// within 4 standard errors, and the target must be met; the point meter of the file is
+// measured by the path tracer as before (exactly: a point source). On 1 and 2 threads the
+// readings are the same.
+TEST(LightTracedGrids, PointSourceOnTheFloorAndOnAVirtualPlane) {
+    std::string s = read_text(kCie + "case-5.2.pbrt");
+    s += "Meter \"illuminancegrid\" \"string name\" \"floor-cells\" \"point3 corner\" [ -1.6 "
+         "-1.6 0 ] \"vector3 u\" [ 3.2 0 0 ] \"vector3 v\" [ 0 3.2 0 ] \"integer resolution\" "
+         "[ 4 4 ] \"bool cellaverage\" true \"normal n\" [ 0 0 1 ]\n"
+         "Meter \"illuminancegrid\" \"string name\" \"air-cells\" \"point3 corner\" [ -1.6 -1.6 "
+         "1 ] \"vector3 u\" [ 3.2 0 0 ] \"vector3 v\" [ 0 3.2 0 ] \"integer resolution\" [ 4 4 ] "
+         "\"bool cellaverage\" true \"normal n\" [ 0 0 1 ]\n";
+    const MeasureResult r = measure_light_traced(s, 0.01, 2, kCie);
+    ASSERT_EQ(r.readings.size(), 3u);
+    EXPECT_EQ(r.method, "light");
+    EXPECT_NE(r.readings[0].estimator, "light tracing");  // the point meter
+    EXPECT_TRUE(r.readings[0].exact[0]);
+    for (int g = 1; g <= 2; ++g) {
+        const MeterReading& m = r.readings[size_t(g)];
+        SCOPED_TRACE(m.meter.name);
+        EXPECT_EQ(m.estimator, "light tracing");
+        ASSERT_EQ(m.values.size(), 16u);
+        const double h = g == 1 ? 3.0 : 2.0;
+        double z2 = 0;
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) {
+                const size_t k = size_t(j * 4 + i);
+                const double e = cos_source_cell(h, -1.6 + 0.8 * i, -1.6 + 0.8 * j, 0.8);
+                EXPECT_NEAR(m.values[k], e, 4 * m.stderrs[k]) << "cell " << k;
+                EXPECT_LE(m.stderrs[k], 0.01 * e * 1.05) << "cell " << k;
+                EXPECT_TRUE(m.converged[k]);
+                z2 += sqr((m.values[k] - e) / m.stderrs[k]) / 16;
+            }
+        EXPECT_LT(z2, 3.0);  // the standard errors are not too small either
+    }
+    const MeasureResult one = measure_light_traced(s, 0.01, 1, kCie);
+    for (int g = 1; g <= 2; ++g)
+        EXPECT_EQ(one.readings[size_t(g)].values, r.readings[size_t(g)].values);
+}
+
+// Light tracing with interreflections: CIE 171 case 5.8 (a closed 4 m cube of reflectance
+// 0.5, a 10000 lm isotropic point source at its centre). The floor's direct illuminance
+// averages Phi / 6 / 16 m^2 and its indirect illuminance rho Phi / (S (1 - rho)) with
+// S = 96 m^2 (both 104.1667 lx); the file's two one-cell grids are the floor's averages.
+TEST(LightTracedGrids, Cie171Case5_8DirectAndIndirect) {
+    const MeasureResult r =
+        measure_light_traced(read_text(kCie + "case-5.8-rho0.5.pbrt"), 0.003, 2, kCie);
+    ASSERT_EQ(r.readings.size(), 2u);
+    const double expected = 10000.0 / 6 / 16;
+    for (const MeterReading& m : r.readings) {
+        SCOPED_TRACE(m.meter.name);
+        EXPECT_EQ(m.estimator, "light tracing");
+        ASSERT_EQ(m.values.size(), 1u);
+        EXPECT_NEAR(m.values[0], expected, 4 * m.stderrs[0]);
+        EXPECT_LE(m.stderrs[0], 0.003 * expected * 1.05);
+        EXPECT_NEAR(m.avg, m.values[0], 1e-9 * expected);
+    }
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/path/path.h"
+#include "steradian/integrators/light_meters.h"
 #include "steradian/integrators/radiosity/radiosity.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/sampling/padded_sobol_sampler.h"
@@ -131,10 +132,13 @@ struct Value {
     size_t point;
 };
 
-std::vector<Value> values_of(const Scene& scene) {
+/// The values of every meter but those `skip` marks.
+std::vector<Value> values_of(const Scene& scene, const std::vector<uint8_t>& skip = {}) {
     std::vector<Value> values;
-    for (size_t mi = 0; mi < scene.meters.size(); ++mi)
+    for (size_t mi = 0; mi < scene.meters.size(); ++mi) {
+        if (mi < skip.size() && skip[mi]) continue;
         for (size_t k = 0; k < scene.meters[mi].points.size(); ++k) values.push_back({int(mi), k});
+    }
     return values;
 }
 
@@ -188,6 +192,7 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
 
     MeasureResult res;
     res.rel_error_target = opt.rel_error;
+    if (opt.light_trace) res.method = "light";
     if (opt.radiosity) {
         const RadiosityStats& rs = opt.radiosity->stats();
         res.method = "radiosity";
@@ -203,8 +208,24 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
                               {"exchange_seconds", rs.seconds_exchange},
                               {"sweep_seconds", rs.seconds_sweeps}};
     }
+    // The grids measured by light tracing, if asked for (after the others).
+    std::vector<int> traced;
+    std::vector<uint8_t> skip(scene.meters.size(), 0);
+    if (opt.light_trace) {
+        if (opt.checkpoint || opt.resume)
+            throw Error("measure --method light: checkpoints are not supported with light "
+                        "tracing yet");
+        if (opt.distribute && opt.distribute->workers() > 0)
+            throw Error("measure --method light: light tracing does not run on several "
+                        "processes yet");
+        for (size_t mi = 0; mi < scene.meters.size(); ++mi)
+            if (light_traceable(scene, scene.meters[mi])) {
+                traced.push_back(int(mi));
+                skip[mi] = 1;
+            }
+    }
     // Flatten (meter, point) into value indices.
-    const std::vector<Value> values = values_of(scene);
+    const std::vector<Value> values = values_of(scene, skip);
     for (size_t mi = 0; mi < scene.meters.size(); ++mi) {
         MeterReading r;
         r.meter = scene.meters[mi];
@@ -509,7 +530,22 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
         rd.exact.push_back(plan == DirectPlan::Deterministic && direct_exact[vi]);
     }
     res.time_limited = st.time_limited;
+    LightMeterStats light_stats;
+    if (!traced.empty()) {
+        LightMeterOptions lo;
+        lo.rel_error = opt.rel_error;
+        lo.seed = opt.seed;
+        lo.threads = opt.threads;
+        lo.stop = opt.stop;
+        if (opt.time_budget > 0) lo.time_budget = std::max(1e-3, opt.time_budget - elapsed());
+        light_trace_meters(scene, traced, lo, res.readings, light_stats);
+        res.time_limited = res.time_limited || light_stats.time_limited;
+        for (int mi : traced)
+            for (uint8_t c : res.readings[size_t(mi)].converged)
+                res.all_converged = res.all_converged && c;
+    }
     for (MeterReading& r : res.readings) {
+        if (r.estimator == "light tracing") continue;
         for (uint8_t c : r.converged) res.all_converged = res.all_converged && c;
         if (r.meter.kind != MeterKind::Grid || r.values.empty()) continue;
         double sum = 0, var = 0;
@@ -528,9 +564,9 @@ MeasureResult measure(const Scene& scene, const MeasureOptions& opt) {
     apply_glare(scene, res);  // glare meters: E_ind -> UGR
     res.interrupted = opt.stop && opt.stop->load();
     const MeasureState total = state_so_far();
-    res.paths = total.paths;
-    res.rays = total.rays + direct_rays;
-    res.nonfinite = total.nonfinite;
+    res.paths = total.paths + light_stats.paths;
+    res.rays = total.rays + direct_rays + light_stats.rays;
+    res.nonfinite = total.nonfinite + light_stats.nonfinite;
     res.wall_seconds = total.wall_seconds;
     res.cpu_seconds = total.cpu_seconds;
     return res;

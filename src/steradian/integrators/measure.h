@@ -86,6 +86,10 @@ struct MeasureOptions {
     /// light can be computed so: delta lights exactly, area lights by adaptive quadrature;
     /// the indirect part, if any, stays Monte Carlo. false: every value by samples.
     bool deterministic_direct = true;
+    /// Cell-averaged illuminance and irradiance grids by light tracing (light_meters.h;
+    /// `--method light`), the other meters as without it. Not with checkpoints or several
+    /// processes.
+    bool light_trace = false;
 };
 
 struct MeterReading {

@@ -491,6 +491,10 @@ svg .ax{font-size:11px;fill:#333}svg .cl{font-size:11px;fill:#111;paint-order:st
             ? "radiosity (direct light from every light per meter point, by closed forms and "
               "adaptive quadrature where the meter's estimator says \"deterministic\"; "
               "indirect light by gather rays reading the radiosity solution)"
+        : r.method == "light"
+            ? "light tracing for the cell-averaged grids (particles from the lights; a cell's "
+              "illuminance is the flux that crosses it over its area), path tracing for the "
+              "other meters"
             : "path tracing (Monte Carlo, light sampling and BSDF sampling combined by multiple "
               "importance sampling)");
     for (const auto& [k, v] : r.method_figures) row(h, html_escape(r.method + ": " + k), num(v));
