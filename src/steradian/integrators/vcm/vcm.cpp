@@ -18,7 +18,9 @@
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/iterations.h"
+#include "steradian/integrators/path/medium_transport.h"
 #include "steradian/integrators/progress.h"
+#include "steradian/media/medium.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/sampling/padded_sobol_sampler.h"
 #include "steradian/scene/scene.h"
@@ -44,13 +46,59 @@ inline Float mis(Float x) { return x * x; }
 struct LightVertex {
     Point3 p;
     Vec3 p_error;
-    Normal3 ng;
-    Vec3 wo;  ///< unit, towards the previous vertex of the light path
+    Normal3 ng;  ///< zero at a medium vertex
+    Vec3 wo;     ///< unit, towards the previous vertex of the light path
     SampledSpectrum beta{0};
     Float dvcm = 0, dvc = 0, dvm = 0;
     uint8_t length = 0;        ///< segments from the light
     bool terminated = false;   ///< the path's secondary wavelengths were terminated
-    Bsdf bsdf;
+    bool in_medium = false;    ///< a scattering in a medium (phase function g), not a surface
+    Float g = 0;
+    /// The media on the two sides (a surface's MediumInterface where it is a transition,
+    /// else the medium the path was in; a medium vertex's medium on both; -1: vacuum).
+    int medium_in = -1, medium_out = -1;
+    Bsdf bsdf;  ///< surfaces only
+};
+
+/// What scatters at a vertex: a BSDF, or (bsdf null) a medium's Henyey-Greenstein phase
+/// function, which has no cosine factor and is its own sampling density.
+struct Scatter {
+    const Bsdf* bsdf = nullptr;
+    Float g = 0;
+    SampledSpectrum f(Vec3 wo, Vec3 wi, TransportMode mode) const {
+        return bsdf ? bsdf->f(wo, wi, mode) : SampledSpectrum(hg_phase(dot(wo, wi), g));
+    }
+    Float pdf(Vec3 wo, Vec3 wi, TransportMode mode) const {
+        return bsdf ? bsdf->pdf(wo, wi, mode) : hg_phase(dot(wo, wi), g);
+    }
+    /// f and the density of sampling wi from wo (radiance transport).
+    Bsdf::Eval evaluate(Vec3 wo, Vec3 wi) const {
+        if (bsdf) return bsdf->evaluate(wo, wi);
+        const Float p = hg_phase(dot(wo, wi), g);
+        return {SampledSpectrum(p), p, 1};
+    }
+    /// The shading cosine of the scattering integral (1 in a medium).
+    Float cos_shading(Vec3 w) const { return bsdf ? absdot(w, bsdf->frame().n) : 1; }
+};
+
+/// The geometric cosine of a density conversion at a vertex of normal ng (1 in a medium).
+inline Float cos_geom(Normal3 ng, Vec3 w) {
+    return ng.x != 0 || ng.y != 0 || ng.z != 0 ? absdot(ng, w) : 1;
+}
+
+/// The medium a path leaving a vertex (normal ng, media in/out) in direction w is in.
+inline int medium_towards(Normal3 ng, int medium_in, int medium_out, Vec3 w) {
+    return dot(w, ng) < 0 ? medium_in : medium_out;
+}
+
+/// A camera path's vertex, for the strategies made at it.
+struct CameraVertex {
+    Point3 p;
+    Vec3 p_error;
+    Normal3 ng;  ///< zero at a medium vertex
+    Vec3 wo;     ///< unit, towards the previous vertex
+    int medium_in = -1, medium_out = -1;
+    Scatter sc;
 };
 
 /// A light vertex's connection to the camera as a film position and sensor values.
@@ -156,7 +204,7 @@ class Vcm {
 public:
     Vcm(const Scene& scene, const Film& film, const BidirContext& ctx, bool connect, bool merge)
         : m_scene(scene), m_film(film), m_ctx(ctx), m_mctx(scene.material_context()),
-          m_connect(connect), m_merge(merge) {}
+          m_connect(connect), m_merge(merge), m_media(!scene.media.empty()) {}
 
     /// Per iteration: the merge radius, the light paths' count and wavelengths.
     void start_iteration(Float radius, int64_t n_light, const SampledWavelengths& lambda) {
@@ -168,6 +216,7 @@ public:
         const FilmParams& fp = m_film.params();
         m_lt_factor = Float(double(fp.resolution.x) * double(fp.resolution.y) / double(n_light));
         m_lambda = lambda;
+        m_tr_key = hash(lambda[0], lambda[1], lambda[2], lambda[3]);
         const double eta = kPi * double(radius) * double(radius) * double(n_light);
         // Georgiev's mMisVmWeightFactor and mMisVcWeightFactor, the latter kept on when
         // connections are off: it also relates merging to the camera paths that hit
@@ -209,76 +258,118 @@ public:
         Ray ray = les->ray;
         Point3 prev = les->p;
         int length = 0, crossings = 0;
+        // The medium the light's ray starts in (Scene::light_media; vacuum at infinity).
+        int medium = -1;
+        if (!infinite && size_t(li) < m_scene.light_media.size())
+            medium = medium_towards(les->n, m_scene.light_media[size_t(li)].inside,
+                                    m_scene.light_media[size_t(li)].outside, les->ray.d);
         while (true) {
             SurfaceHit hit;
             ++counters.rays;
-            if (!m_scene.intersect(ray, hit)) break;
-            std::optional<Bsdf> bsdf =
-                hit.material >= 0
-                    ? make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda)
-                    : std::nullopt;
-            if (!bsdf) {
-                if (++crossings > 256) break;
-                ray = spawn_ray(hit, ray.d);
-                continue;
+            const bool found = m_scene.intersect(ray, hit);
+            Point3 p_scatter;
+            Float g = 0;
+            bool scattered = false;
+            if (medium >= 0) {
+                const Flight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
+                                      beta, p_scatter, g);
+                if (fl == Flight::Absorbed) break;
+                scattered = fl == Flight::Scattered;
+            }
+            std::optional<Bsdf> bsdf;
+            if (!scattered) {
+                if (!found) break;
+                if (hit.material >= 0)
+                    bsdf = make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda);
+                if (!bsdf) {
+                    if (++crossings > 256) break;
+                    medium = medium_after(m_scene, hit, ray.d, medium);
+                    ray = spawn_ray(hit, ray.d);
+                    continue;
+                }
             }
             ++length;
-            const Float cos_in = absdot(hit.ng, hit.wo);
+            // The vertex: a surface, or a scattering in the medium (no normal, no cosine).
+            const Point3 p = scattered ? p_scatter : hit.p;
+            const Normal3 ng = scattered ? Normal3(0, 0, 0) : hit.ng;
+            const Vec3 wo = scattered ? -normalize(ray.d) : hit.wo;
+            const Float cos_in = scattered ? 1 : absdot(hit.ng, hit.wo);
             if (!(cos_in > 0)) break;
             if (length == 1) {
                 // dVCM at the first vertex: the density with which a light sample taken
                 // here picks the light's point over the density of the emitted ray (both in
                 // area measure here; the light's choice cancels).
-                const Float d2 = length_squared(hit.p - prev);
+                const Float d2 = length_squared(p - prev);
                 Float nee_over_emit = 0;
                 if (delta_pos)
                     nee_over_emit = d2 / (les->pdf_dir * cos_in);
                 else if (delta_dir)
                     nee_over_emit = 1 / (les->pdf_pos * cos_in);
                 else if (infinite)
-                    nee_over_emit = infinite_pdf_li(light, hit.p, -les->ray.d) /
+                    nee_over_emit = infinite_pdf_li(light, p, -les->ray.d) /
                                     (les->pdf_pos * les->pdf_dir * cos_in);
                 else if (const auto* area = std::get_if<DiffuseAreaLight>(&light))
-                    nee_over_emit = area->pdf_li_point(LightSampleContext{hit.p, hit.p_error, hit.ng},
-                                                       les->p, les->n) *
-                                    cos0 / (les->pdf_pos * les->pdf_dir * cos_in);
+                    nee_over_emit =
+                        area->pdf_li_point(LightSampleContext{p, scattered ? Vec3(0, 0, 0) : hit.p_error, ng},
+                                           les->p, les->n) *
+                        cos0 / (les->pdf_pos * les->pdf_dir * cos_in);
                 dvcm = mis(nee_over_emit);
                 dvc = dvc0 / mis(cos_in);
                 dvm = dvc * m_vc_factor;
             } else {
-                const Float d2 = length_squared(hit.p - prev);
+                const Float d2 = length_squared(p - prev);
                 dvcm *= mis(d2) / mis(cos_in);
                 dvc /= mis(cos_in);
                 dvm /= mis(cos_in);
             }
-            const bool stored = bsdf->has_non_specular();
+            // Medium vertices are stored too (connectible), but never merged.
+            const bool stored = scattered || bsdf->has_non_specular();
             // The camera connection's numbers, drawn whether or not it is made.
             const Point2 u_cam = m_connect ? sampler.get_2d() : Point2(0.5f, 0.5f);
             if (stored) {
                 LightVertex& v = out[count++];
-                v.p = hit.p;
-                v.p_error = hit.p_error;
-                v.ng = hit.ng;
-                v.wo = hit.wo;
+                v.p = p;
+                v.p_error = scattered ? Vec3(0, 0, 0) : hit.p_error;
+                v.ng = ng;
+                v.wo = wo;
                 v.beta = beta;
                 v.dvcm = dvcm;
                 v.dvc = dvc;
                 v.dvm = dvm;
                 v.length = uint8_t(length);
                 v.terminated = lambda.secondary_terminated();
-                v.bsdf = *bsdf;
+                v.in_medium = scattered;
+                v.g = g;
+                if (scattered) {
+                    v.medium_in = v.medium_out = medium;
+                } else {
+                    v.medium_in = medium_after(m_scene, hit, -hit.ng, medium);
+                    v.medium_out = medium_after(m_scene, hit, hit.ng, medium);
+                    v.bsdf = *bsdf;
+                }
                 if (m_connect) connect_to_camera(v, u_cam, lambda, counters, splats, nonfinite);
             }
             if (length >= max_depth) break;
             const Float uc = sampler.get_1d();
             const Point2 u = sampler.get_2d();
+            prev = p;
+            if (scattered) {
+                // The phase function is sampled exactly: beta is unchanged, and the reverse
+                // density is the same value (it is symmetric).
+                const PhaseSample ps = sample_hg(wo, g, u);
+                if (!(ps.p > 0)) break;
+                update_mis(ps.p, ps.p, 1, false, false, dvcm, dvc, dvm);
+                ray = Ray{p, ps.wi, kInfinity};
+                continue;
+            }
             auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Importance);
             if (!bs) break;
             const Float cos_out = absdot(hit.ng, bs->wi);
             beta *= bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
             if (beta.is_zero() || beta.has_nonfinite()) break;
-            update_scattering(*bsdf, hit.wo, *bs, cos_out, TransportMode::Radiance, dvcm, dvc, dvm);
-            prev = hit.p;
+            update_mis(bs->pdf_sa, bsdf->pdf(bs->wi, hit.wo, TransportMode::Radiance), cos_out,
+                       bs->is_specular(), true, dvcm, dvc, dvm);
+            medium = medium_after(m_scene, hit, bs->wi, medium);
             ray = spawn_ray(hit, bs->wi);
         }
     }
@@ -320,10 +411,21 @@ public:
         Point3 prev = camera_ray.o;
         LightSampleContext prev_ctx{camera_ray.o, {0, 0, 0}, {0, 0, 0}};
         int length = 0, crossings = 0;
+        int medium = m_scene.camera_medium;
         while (true) {
             SurfaceHit hit;
             ++counters.rays;
-            if (!m_scene.intersect(ray, hit)) {
+            const bool found = m_scene.intersect(ray, hit);
+            Point3 p_scatter;
+            Float g = 0;
+            bool scattered = false;
+            if (medium >= 0) {
+                const Flight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
+                                      beta, p_scatter, g);
+                if (fl == Flight::Absorbed) break;
+                scattered = fl == Flight::Scattered;
+            }
+            if (!scattered && !found) {
                 for (int li : m_scene.infinite_lights) {
                     const Light& l = m_scene.lights[size_t(li)];
                     Float pdf_sa = 0;
@@ -341,25 +443,46 @@ public:
                 }
                 break;
             }
-            std::optional<Bsdf> bsdf =
-                hit.material >= 0
-                    ? make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda)
-                    : std::nullopt;
-            if (!bsdf) {
-                if (++crossings > 256) break;
-                ray = spawn_ray(hit, ray.d);
-                continue;
+            std::optional<Bsdf> bsdf;
+            if (!scattered) {
+                if (hit.material >= 0)
+                    bsdf = make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda);
+                if (!bsdf) {
+                    if (++crossings > 256) break;
+                    medium = medium_after(m_scene, hit, ray.d, medium);
+                    ray = spawn_ray(hit, ray.d);
+                    continue;
+                }
             }
             ++length;
-            const Float cos_in = absdot(hit.ng, hit.wo);
+            CameraVertex cv;
+            if (scattered) {
+                cv.p = p_scatter;
+                cv.p_error = Vec3(0, 0, 0);
+                cv.ng = Normal3(0, 0, 0);
+                cv.wo = -normalize(ray.d);
+                cv.medium_in = cv.medium_out = medium;
+                cv.sc = Scatter{nullptr, g};
+            } else {
+                cv.p = hit.p;
+                cv.p_error = hit.p_error;
+                cv.ng = hit.ng;
+                cv.wo = hit.wo;
+                if (m_media) {
+                    cv.medium_in = medium_after(m_scene, hit, -hit.ng, medium);
+                    cv.medium_out = medium_after(m_scene, hit, hit.ng, medium);
+                }
+                cv.sc = Scatter{&*bsdf, 0};
+            }
+            const Float cos_in = scattered ? 1 : absdot(hit.ng, hit.wo);
             if (!(cos_in > 0)) break;
-            const Float d2 = length_squared(hit.p - prev);
+            const Float d2 = length_squared(cv.p - prev);
             dvcm *= mis(d2) / mis(cos_in);
             dvc /= mis(cos_in);
             dvm /= mis(cos_in);
 
             // s = 0: an emitter found by the camera path.
-            if (hit.light >= 0) {
+            if (!scattered && hit.light >= 0) {
                 const Light& l = m_scene.lights[size_t(hit.light)];
                 const SampledSpectrum le = light_emitted(l, hit.p, hit.ng, hit.wo, lambda);
                 if (!le.is_zero()) {
@@ -380,24 +503,24 @@ public:
             }
             if (length > max_depth) break;
 
-            const bool non_specular = bsdf->has_non_specular();
+            // Medium vertices connect (light samples, connections) but do not merge.
+            const bool non_specular = scattered || bsdf->has_non_specular();
             const Float ul = sampler.get_1d();
             const Point2 u_light = sampler.get_2d();
             if (non_specular && m_connect) {
                 // s = 1: a light sample.
                 if (length < max_depth + 1)
-                    add(sample_light(hit, *bsdf, beta, dvcm, dvc, ul, u_light, lambda, counters),
-                        false);
+                    add(sample_light(cv, beta, dvcm, dvc, ul, u_light, lambda, counters), false);
                 // Vertex connection with this pixel's light path.
                 for (int j = 0; j < n_light; ++j) {
                     const LightVertex& v = light[j];
                     if (int(v.length) + length > max_depth) continue;
-                    const SampledSpectrum c = connect(hit, *bsdf, beta, dvcm, dvc, v, counters);
+                    const SampledSpectrum c = connect(cv, beta, dvcm, dvc, v, lambda, counters);
                     if (!c.is_zero()) add(c, v.terminated);
                 }
             }
-            if (non_specular && m_merge) {
-                // Vertex merging with every light vertex within the radius.
+            if (!scattered && non_specular && m_merge) {
+                // Vertex merging with every (surface) light vertex within the radius.
                 SampledSpectrum sum(0), sum_term(0);
                 grid.query(hit.p, m_radius, [&](uint32_t i) {
                     const LightVertex& v = all[i];
@@ -423,14 +546,24 @@ public:
             const Float uc = sampler.get_1d();
             const Point2 u = sampler.get_2d();
             if (length > max_depth) break;
+            prev = cv.p;
+            prev_ctx = LightSampleContext{cv.p, cv.p_error, cv.ng};
+            if (scattered) {
+                // Sampled exactly: beta is unchanged, the reverse density the same value.
+                const PhaseSample ps = sample_hg(cv.wo, g, u);
+                if (!(ps.p > 0)) break;
+                update_mis(ps.p, ps.p, 1, false, false, dvcm, dvc, dvm);
+                ray = Ray{cv.p, ps.wi, kInfinity};
+                continue;
+            }
             auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Radiance);
             if (!bs) break;
             const Float cos_out = absdot(hit.ng, bs->wi);
             beta *= bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
             if (beta.is_zero() || beta.has_nonfinite()) break;
-            update_scattering(*bsdf, hit.wo, *bs, cos_out, TransportMode::Importance, dvcm, dvc, dvm);
-            prev = hit.p;
-            prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
+            update_mis(bs->pdf_sa, bsdf->pdf(bs->wi, hit.wo, TransportMode::Importance), cos_out,
+                       bs->is_specular(), true, dvcm, dvc, dvm);
+            medium = medium_after(m_scene, hit, bs->wi, medium);
             ray = spawn_ray(hit, bs->wi);
         }
         return finish();
@@ -438,30 +571,98 @@ public:
 
 private:
     /// Eqs. 34-36 of the report (SmallVCM's SampleScattering): the MIS quantities after a
-    /// vertex sampled its next direction; rev_mode is the other subpath's transport mode.
-    void update_scattering(const Bsdf& bsdf, Vec3 wo, const BsdfSample& bs, Float cos_out,
-                           TransportMode rev_mode, Float& dvcm, Float& dvc, Float& dvm) const {
-        if (bs.is_specular()) {
+    /// vertex sampled its next direction with solid-angle density pdf_sa (rev: the density of
+    /// the reverse direction, in the other subpath's transport mode; cos_out: the geometric
+    /// cosine there, 1 in a medium). `mergeable`: whether the vertex is one at which paths
+    /// are merged (a surface); a medium vertex is connectible but not merged, so the merging
+    /// terms of the vertex itself (eta in dVC, 1 in dVM) are left out, as a specular vertex
+    /// leaves out every term of its own.
+    void update_mis(Float pdf_sa, Float rev, Float cos_out, bool specular, bool mergeable,
+                    Float& dvcm, Float& dvc, Float& dvm) const {
+        if (specular) {
             // The densities of both directions are the lobe's probability: their ratio is 1.
             dvcm = 0;
             dvc *= mis(cos_out);
             dvm *= mis(cos_out);
             return;
         }
-        const Float rev = bsdf.pdf(bs.wi, wo, rev_mode);
-        const Float g = mis(cos_out / bs.pdf_sa);
-        dvc = g * (dvc * mis(rev) + m_vc * dvcm + m_vm_factor);
-        dvm = g * (dvm * mis(rev) + m_vc * dvcm * m_vc_factor + 1);
-        dvcm = mis(1 / bs.pdf_sa);
+        const Float g = mis(cos_out / pdf_sa);
+        dvc = g * (dvc * mis(rev) + m_vc * dvcm + (mergeable ? m_vm_factor : 0));
+        dvm = g * (dvm * mis(rev) + m_vc * dvcm * m_vc_factor + (mergeable ? 1 : 0));
+        dvcm = mis(1 / pdf_sa);
     }
 
-    /// Whether nothing blocks the segment between two points (b at infinity: along dir).
-    bool unoccluded(Point3 a, Vec3 a_err, Normal3 a_n, Point3 b, Vec3 b_err, Normal3 b_n,
-                    PathCounters& counters) const {
-        ++counters.rays;
+    enum class Flight { Absorbed, Passed, Scattered };
+
+    /// A free flight along `ray` (in `medium`) up to t_max by delta tracking against the
+    /// medium's majorant (pbrt-v4's SampleT_maj, as volpath's and bdpt's random walks):
+    /// absorption ends the path, a real scattering is a medium vertex (p, phase asymmetry
+    /// g), null collisions go on; the hero wavelength's probabilities choose, the others are
+    /// weighted by their ratio to it. Two sampler dimensions: the first flight and the key
+    /// of the stream of the rest.
+    Flight fly(const Ray& ray, int medium, Float t_max, Sampler& sampler,
+               const SampledWavelengths& lambda, SampledSpectrum& beta, Point3& p, Float& g) const {
+        const Float u = sampler.get_1d();
+        const Float uk = sampler.get_1d();
+        Pcg32 rng = tracking_rng(hash(uk, ray.o.x, ray.o.y, ray.o.z), hash(ray.d.x, ray.d.y, ray.d.z));
+        bool scattered = false, absorbed = false;
+        const SampledSpectrum t_maj = sample_t_maj(
+            m_scene.media[size_t(medium)], ray, t_max, u, rng, lambda,
+            [&](Point3 pc, const MediumProperties& mp, SampledSpectrum sigma_maj, SampledSpectrum tm) {
+                const Float p_absorb = mp.sigma_a[0] / sigma_maj[0];
+                const Float p_real = mp.sigma_s[0] / sigma_maj[0];
+                const Float um = rng.next_float();
+                if (um < p_absorb) {
+                    absorbed = true;
+                    return false;
+                }
+                if (um < p_absorb + p_real) {
+                    beta *= tm * mp.sigma_s / (tm[0] * mp.sigma_s[0]);
+                    p = pc;
+                    g = mp.g;
+                    scattered = true;
+                    return false;
+                }
+                SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
+                for (int i = 0; i < kSpectrumSamples; ++i) sigma_n[i] = std::max(sigma_n[i], Float(0));
+                const Float pdf = tm[0] * sigma_n[0];
+                beta = pdf > 0 ? beta * tm * sigma_n / pdf : SampledSpectrum(0);
+                return !beta.is_zero();
+            });
+        if (absorbed || beta.is_zero() || beta.has_nonfinite()) return Flight::Absorbed;
+        if (scattered) return Flight::Scattered;
+        beta *= t_maj / t_maj[0];
+        if (beta.is_zero() || beta.has_nonfinite()) return Flight::Absorbed;
+        return Flight::Passed;
+    }
+
+    /// The transmittance along a shadow ray starting in `medium` (pbrt-v4's Integrator::Tr
+    /// by ratio tracking, as bdpt's connections): zero if a surface with a material blocks
+    /// it. Without media, visibility alone.
+    SampledSpectrum transmittance(const Ray& ray, int medium, bool to_point,
+                                  const SampledWavelengths& lambda, PathCounters& counters) const {
+        if (!m_media) {
+            ++counters.rays;
+            return SampledSpectrum(m_scene.occluded(ray) ? 0 : 1);
+        }
+        SampledSpectrum r_l(1), r_u(1);
+        const SampledSpectrum t = shadow_transmittance(m_scene, ray, medium, to_point, lambda, r_l,
+                                                       r_u, m_tr_key, counters);
+        if (t.is_zero()) return t;
+        const SampledSpectrum w = t / r_l.average();
+        return w.has_nonfinite() ? SampledSpectrum(0) : w;
+    }
+
+    /// The transmittance between points a (in medium_a towards b) and b.
+    SampledSpectrum tr(Point3 a, Vec3 a_err, Normal3 a_n, int medium_a, Point3 b, Vec3 b_err,
+                       Normal3 b_n, const SampledWavelengths& lambda, PathCounters& counters) const {
         const Point3 o = offset_ray_origin(a, a_err, a_n, b - a);
         const Point3 t = offset_ray_origin(b, b_err, b_n, o - b);
-        return !m_scene.occluded(Ray{o, t - o, 1 - Float(1e-4)});
+        return transmittance(Ray{o, t - o, 1 - Float(1e-4)}, medium_a, true, lambda, counters);
+    }
+
+    static Scatter scatter_of(const LightVertex& v) {
+        return v.in_medium ? Scatter{nullptr, v.g} : Scatter{&v.bsdf, 0};
     }
 
     /// t = 1: light vertex v connected to the camera (eq. 44 and SmallVCM's
@@ -471,20 +672,23 @@ private:
                            uint64_t& nonfinite) const {
         auto cs = m_scene.camera->sample_wi(v.p, u);
         if (!cs || !(cs->pdf > 0) || !m_ctx.inside(cs->p_raster)) return;
-        const SampledSpectrum f = v.bsdf.f(v.wo, cs->wi, TransportMode::Importance);
+        const Scatter sc = scatter_of(v);
+        const SampledSpectrum f = sc.f(v.wo, cs->wi, TransportMode::Importance);
         if (f.is_zero()) return;
-        SampledSpectrum c =
-            v.beta * f * (absdot(cs->wi, v.bsdf.frame().n) * cs->we / cs->pdf * m_lt_factor);
+        SampledSpectrum c = v.beta * f * (sc.cos_shading(cs->wi) * cs->we / cs->pdf * m_lt_factor);
         if (c.is_zero()) return;
         Float cam_pos = 0, cam_dir = 0;
         m_scene.camera->pdf_we(Ray{cs->p_lens, -cs->wi, kInfinity}, cam_pos, cam_dir);
         const Float d2 = length_squared(cs->p_lens - v.p);
         // The density (per pixel, area at v) of a camera path reaching v, over N.
-        const Float cam_a = m_lt_factor * cam_dir * absdot(v.ng, cs->wi) / d2;
-        const Float rev = v.bsdf.pdf(cs->wi, v.wo, TransportMode::Radiance);
-        const Float wl = mis(cam_a) * (m_vm_factor + v.dvcm + v.dvc * mis(rev));
+        const Float cam_a = m_lt_factor * cam_dir * cos_geom(v.ng, cs->wi) / d2;
+        const Float rev = sc.pdf(cs->wi, v.wo, TransportMode::Radiance);
+        const Float vm = v.in_medium ? 0 : m_vm_factor;  // merging at v
+        const Float wl = mis(cam_a) * (vm + v.dvcm + v.dvc * mis(rev));
         c *= 1 / (1 + wl);
-        if (!unoccluded(v.p, v.p_error, v.ng, cs->p_lens, {0, 0, 0}, cs->n_lens, counters)) return;
+        c *= tr(v.p, v.p_error, v.ng, medium_towards(v.ng, v.medium_in, v.medium_out, cs->wi),
+                cs->p_lens, {0, 0, 0}, cs->n_lens, lambda, counters);
+        if (c.is_zero()) return;
         SampledWavelengths lw = lambda;
         if (v.terminated) lw.terminate_secondary();
         std::array<double, 3> xyz{0, 0, 0};
@@ -502,30 +706,30 @@ private:
     }
 
     /// s = 1 (eqs. 40-41, SmallVCM's DirectIllumination).
-    SampledSpectrum sample_light(const SurfaceHit& hit, const Bsdf& bsdf, const SampledSpectrum& beta,
-                                 Float dvcm, Float dvc, Float ul, Point2 u,
-                                 const SampledWavelengths& lambda, PathCounters& counters) const {
+    SampledSpectrum sample_light(const CameraVertex& cv, const SampledSpectrum& beta, Float dvcm,
+                                 Float dvc, Float ul, Point2 u, const SampledWavelengths& lambda,
+                                 PathCounters& counters) const {
         if (m_scene.light_sampler.empty()) return SampledSpectrum(0);
         Float pmf = 0;
         const int li = m_scene.light_sampler.sample(ul, pmf);
         if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
         const Light& light = m_scene.lights[size_t(li)];
-        auto ls = sample_li(light, LightSampleContext{hit.p, hit.p_error, hit.ng}, u, lambda, false);
+        auto ls = sample_li(light, LightSampleContext{cv.p, cv.p_error, cv.ng}, u, lambda, false);
         if (!ls || ls->L.is_zero() || !(ls->pdf_sa > 0)) return SampledSpectrum(0);
-        const Bsdf::Eval e = bsdf.evaluate(hit.wo, ls->wi);
+        const Bsdf::Eval e = cv.sc.evaluate(cv.wo, ls->wi);
         if (e.f.is_zero()) return SampledSpectrum(0);
-        const Float cos_shading = absdot(ls->wi, bsdf.frame().n);
+        const Float cos_shading = cv.sc.cos_shading(ls->wi);
         SampledSpectrum c = beta * e.f * ls->L * (cos_shading / (pmf * ls->pdf_sa));
         if (c.is_zero()) return c;
         const bool delta_pos = light_delta_position(light), delta_dir = light_delta_direction(light);
-        const Float cos_x = absdot(hit.ng, ls->wi);
+        const Float cos_x = cos_geom(cv.ng, ls->wi);
         // The density of the light path's emission making this segment, over the light
         // sample's (both at this vertex; the light's choice cancels).
         Float ppos = 0, pdir = 0;
         pdf_le(light, ls->p_light, ls->n_light, -ls->wi, ppos, pdir);
         Float emit_over_nee = 0;
         if (delta_pos) {
-            emit_over_nee = pdir * cos_x / length_squared(ls->p_light - hit.p);
+            emit_over_nee = pdir * cos_x / length_squared(ls->p_light - cv.p);
         } else if (delta_dir) {
             emit_over_nee = ppos * cos_x;
         } else if (ls->at_infinity) {
@@ -535,51 +739,49 @@ private:
             emit_over_nee = cos_l > 0 ? ppos * pdir * cos_x / (ls->pdf_sa * cos_l) : 0;
         }
         const Float bsdf_dir = delta_pos || delta_dir ? 0 : e.pdf_sa;
-        const Float rev = bsdf.pdf(ls->wi, hit.wo, TransportMode::Importance);
+        const Float rev = cv.sc.pdf(ls->wi, cv.wo, TransportMode::Importance);
+        const Float vm = cv.sc.bsdf ? m_vm_factor : 0;  // merging at this vertex
         const Float wl = mis(bsdf_dir / (pmf * ls->pdf_sa));
-        const Float wc = mis(emit_over_nee) * (m_vm_factor + dvcm + dvc * mis(rev));
+        const Float wc = mis(emit_over_nee) * (vm + dvcm + dvc * mis(rev));
         c *= 1 / (1 + wl + wc);
-        ++counters.rays;
-        bool visible;
+        const int medium = medium_towards(cv.ng, cv.medium_in, cv.medium_out, ls->wi);
         if (ls->at_infinity) {
-            const Point3 o = offset_ray_origin(hit.p, hit.p_error, hit.ng, ls->wi);
-            visible = !m_scene.occluded(Ray{o, ls->wi, kInfinity});
-        } else {
-            --counters.rays;
-            visible = unoccluded(hit.p, hit.p_error, hit.ng, ls->p_light, ls->p_error, ls->n_light,
-                                 counters);
+            const Point3 o = offset_ray_origin(cv.p, cv.p_error, cv.ng, ls->wi);
+            return c * transmittance(Ray{o, ls->wi, kInfinity}, medium, false, lambda, counters);
         }
-        return visible ? c : SampledSpectrum(0);
+        return c * tr(cv.p, cv.p_error, cv.ng, medium, ls->p_light, ls->p_error, ls->n_light, lambda,
+                      counters);
     }
 
     /// Vertex connection (eqs. 42-43, SmallVCM's ConnectVertices).
-    SampledSpectrum connect(const SurfaceHit& hit, const Bsdf& bsdf, const SampledSpectrum& beta,
-                            Float dvcm, Float dvc, const LightVertex& v,
+    SampledSpectrum connect(const CameraVertex& cv, const SampledSpectrum& beta, Float dvcm,
+                            Float dvc, const LightVertex& v, const SampledWavelengths& lambda,
                             PathCounters& counters) const {
-        Vec3 d = v.p - hit.p;
+        Vec3 d = v.p - cv.p;
         const Float d2 = length_squared(d);
         if (!(d2 > 0)) return SampledSpectrum(0);
         d = d / std::sqrt(d2);
-        const Bsdf::Eval ec = bsdf.evaluate(hit.wo, d);
+        const Bsdf::Eval ec = cv.sc.evaluate(cv.wo, d);
         if (ec.f.is_zero()) return SampledSpectrum(0);
-        const SampledSpectrum fl = v.bsdf.f(v.wo, -d, TransportMode::Importance);
+        const Scatter vs = scatter_of(v);
+        const SampledSpectrum fl = vs.f(v.wo, -d, TransportMode::Importance);
         if (fl.is_zero()) return SampledSpectrum(0);
-        const Float g = absdot(d, bsdf.frame().n) * absdot(d, v.bsdf.frame().n) / d2;
+        const Float g = cv.sc.cos_shading(d) * vs.cos_shading(d) / d2;
         SampledSpectrum c = beta * ec.f * fl * v.beta * g;
         if (c.is_zero()) return c;
-        const Float cam_rev = bsdf.pdf(d, hit.wo, TransportMode::Importance);
-        const Float light_dir = v.bsdf.pdf(v.wo, -d, TransportMode::Importance);
-        const Float light_rev = v.bsdf.pdf(-d, v.wo, TransportMode::Radiance);
-        const Float cam_dir_a = ec.pdf_sa * absdot(v.ng, d) / d2;
-        const Float light_dir_a = light_dir * absdot(hit.ng, d) / d2;
-        const Float wl = mis(cam_dir_a) * (m_vm_factor + v.dvcm + v.dvc * mis(light_rev));
-        const Float wc = mis(light_dir_a) * (m_vm_factor + dvcm + dvc * mis(cam_rev));
+        const Float cam_rev = cv.sc.pdf(d, cv.wo, TransportMode::Importance);
+        const Float light_dir = vs.pdf(v.wo, -d, TransportMode::Importance);
+        const Float light_rev = vs.pdf(-d, v.wo, TransportMode::Radiance);
+        const Float cam_dir_a = ec.pdf_sa * cos_geom(v.ng, d) / d2;
+        const Float light_dir_a = light_dir * cos_geom(cv.ng, d) / d2;
+        // Merging at either end of the connection, where it is a surface.
+        const Float vm_light = v.in_medium ? 0 : m_vm_factor, vm_cam = cv.sc.bsdf ? m_vm_factor : 0;
+        const Float wl = mis(cam_dir_a) * (vm_light + v.dvcm + v.dvc * mis(light_rev));
+        const Float wc = mis(light_dir_a) * (vm_cam + dvcm + dvc * mis(cam_rev));
         c *= 1 / (1 + wl + wc);
-        if (!unoccluded(hit.p, hit.p_error, hit.ng, v.p, v.p_error, v.ng, counters))
-            return SampledSpectrum(0);
-        return c;
+        return c * tr(cv.p, cv.p_error, cv.ng, medium_towards(cv.ng, cv.medium_in, cv.medium_out, d),
+                      v.p, v.p_error, v.ng, lambda, counters);
     }
-
     const Scene& m_scene;
     const Film& m_film;
     const BidirContext& m_ctx;
@@ -590,6 +792,8 @@ private:
     Float m_lt_factor = 1;
     SampledWavelengths m_lambda;
     Float m_vm_factor = 0, m_vc_factor = 0, m_vc = 1, m_merge_norm = 0;
+    const bool m_media;  ///< the scene has media: connections track transmittance
+    uint64_t m_tr_key = 0;  ///< keys the ratio-tracking streams of an iteration's connections
 };
 
 /// Rotates the iterations' wavelengths (pass_wavelength_sample) apart from the other
@@ -601,11 +805,6 @@ constexpr uint64_t kWavelengthSalt = 0x56434d5f4c414d42ULL;
 RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
     const char* kName = "Integrator \"vcm\"";
     check_bidir_scene(scene, "vcm");
-    // check_bidir_scene accepts media (bdpt traces them); vcm's subpaths do not.
-    if (!scene.media.empty() || scene.integrator.volumetric)
-        throw Error(fmt::format("{}: participating media are not supported yet (use \"bdpt\" "
-                                "or \"volpath\")",
-                                kName));
     if (film.has_aux()) throw Error(fmt::format("{}: only the \"rgb\" film is supported yet", kName));
     if (opt.checkpoint || opt.resume)
         throw Error(fmt::format("{}: checkpoints are not supported yet", kName));
@@ -725,8 +924,10 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
         stored.clear();
         if (vp.merge)
             for (int64_t k = 0; k < n_light; ++k)
-                for (int j = 0; j < counts[size_t(k)]; ++j)
-                    stored.push_back(uint32_t(size_t(k) * size_t(stride) + size_t(j)));
+                for (int j = 0; j < counts[size_t(k)]; ++j) {
+                    const size_t i = size_t(k) * size_t(stride) + size_t(j);
+                    if (!vertices[i].in_medium) stored.push_back(uint32_t(i));  // surfaces only
+                }
         grid.build(vertices, stored, radius);
 
         // ---- camera pass -------------------------------------------------------------------------
