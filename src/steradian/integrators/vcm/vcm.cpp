@@ -800,101 +800,91 @@ private:
 /// iterative integrators'.
 constexpr uint64_t kWavelengthSalt = 0x56434d5f4c414d42ULL;
 
-}  // namespace
+/// Film rows per item of a distributed camera pass.
+constexpr int kBandRows = 4;
 
-RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
-    const char* kName = "Integrator \"vcm\"";
-    check_bidir_scene(scene, "vcm");
-    if (film.has_aux()) throw Error(fmt::format("{}: only the \"rgb\" film is supported yet", kName));
-    if (opt.checkpoint || opt.resume)
-        throw Error(fmt::format("{}: checkpoints are not supported yet", kName));
-    if (opt.distribute && opt.distribute->workers() > 0)
-        throw Error(fmt::format("{}: distributed rendering (steradian-mpi with more than one "
-                                "process) is not supported yet; run it in one process",
-                                kName));
-    const VcmParams& vp = scene.integrator.vcm;
-    const FilmParams& fp = film.params();
-    const int w = fp.width(), h = fp.height();
-    const int64_t n_pixels = int64_t(w) * int64_t(h);
-    const int iterations = render_samples_per_pixel(scene, opt);
-    const int max_depth = scene.integrator.max_depth;
-    const int stride = std::max(1, max_depth);
-    const int64_t n_light = vp.light_paths > 0 ? int64_t(vp.light_paths) : n_pixels;
-    if (double(n_light) * stride * sizeof(LightVertex) > kMaxVertexBytes || n_light > INT32_MAX)
-        throw Error(fmt::format("{}: the light vertices of one iteration ({} light paths of up "
-                                "to {} vertices, {} bytes each) would take more than {} GiB; "
-                                "lower \"lightpathsperiteration\" (or the resolution) or "
-                                "\"maxdepth\"",
-                                kName, n_light, stride, sizeof(LightVertex),
-                                kMaxVertexBytes / double(1 << 30)));
-    const uint64_t cam_seed = scene.sampler.seed + opt.seed;
-    const uint64_t light_seed = uint64_t(int64_t(vp.seed)) + opt.seed;
-    // The initial radius: the scene's, or SmallVCM's default of 0.003 times the radius of
-    // the scene's bounding sphere.
-    Float r1 = vp.radius;
-    if (!(r1 > 0)) r1 = Float(0.003 * 0.5 * double(length(scene.bounds.hi - scene.bounds.lo)));
-    if (!(r1 > 0) || !std::isfinite(r1)) r1 = 1e-3f;
+/// One camera sample's result: sensor values and filter weight (film.add's arguments).
+struct PixelSample {
+    std::array<double, 3> xyz{0, 0, 0};
+    Float weight = 0;
+};
 
-    const int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
-    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
-    tbb::task_arena arena(threads);
+/// What an iteration needs, shared by the single process, the coordinator and the workers of
+/// a distributed render (each process traces every light path of an iteration itself: the
+/// merging grid needs all of them, and they are pure functions of (iteration, path, seed)).
+class VcmRun {
+public:
+    VcmRun(const Scene& scene, const Film& film, uint64_t seed, int iterations, int threads)
+        : m_scene(scene), m_film(film), m_fp(film.params()), m_iterations(iterations),
+          m_threads(threads), m_arena(threads), m_ctx(scene),
+          m_vcm(scene, film, m_ctx, scene.integrator.vcm.connect, scene.integrator.vcm.merge) {
+        const VcmParams& vp = scene.integrator.vcm;
+        w = m_fp.width(), h = m_fp.height();
+        n_pixels = int64_t(w) * int64_t(h);
+        stride = std::max(1, scene.integrator.max_depth);
+        n_light = vp.light_paths > 0 ? int64_t(vp.light_paths) : n_pixels;
+        if (double(n_light) * stride * sizeof(LightVertex) > kMaxVertexBytes || n_light > INT32_MAX)
+            throw Error(fmt::format("Integrator \"vcm\": the light vertices of one iteration ({} "
+                                    "light paths of up to {} vertices, {} bytes each) would take "
+                                    "more than {} GiB; lower \"lightpathsperiteration\" (or the "
+                                    "resolution) or \"maxdepth\"",
+                                    n_light, stride, sizeof(LightVertex),
+                                    kMaxVertexBytes / double(1 << 30)));
+        cam_seed = scene.sampler.seed + seed;
+        const uint64_t light_seed = uint64_t(int64_t(vp.seed)) + seed;
+        // The initial radius: the scene's, or SmallVCM's default of 0.003 times the radius
+        // of the scene's bounding sphere.
+        r1 = vp.radius;
+        if (!(r1 > 0)) r1 = Float(0.003 * 0.5 * double(length(scene.bounds.hi - scene.bounds.lo)));
+        if (!(r1 > 0) || !std::isfinite(r1)) r1 = 1e-3f;
+        std::shared_ptr<Sampler> cam_proto(
+            scene.sampler.type == "stratified"
+                ? make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
+                                          scene.sampler.jitter, cam_seed)
+                : make_sampler(scene.sampler.type, iterations, m_fp.resolution, cam_seed));
+        // Light path k of iteration i: sample k of the pseudo-pixel (i, -1) (camera pixels
+        // have y >= 0) of an Owen-scrambled Sobol sampler with N samples per pixel.
+        auto light_proto = std::make_shared<PaddedSobolSampler>(int(n_light), light_seed);
+        states = std::make_unique<tbb::enumerable_thread_specific<ThreadState>>([cam_proto, light_proto] {
+            ThreadState t;
+            t.cam_sampler = cam_proto->clone();
+            t.light_sampler = light_proto->clone();
+            return t;
+        });
+        vertices.resize(size_t(n_light) * size_t(stride));
+        counts.assign(size_t(n_light), 0);
+    }
 
-    BidirContext ctx(scene);
-    Vcm vcm(scene, film, ctx, vp.connect, vp.merge);
+    tbb::task_arena& arena() { return m_arena; }
 
-    std::unique_ptr<Sampler> cam_proto =
-        scene.sampler.type == "stratified"
-            ? make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
-                                      scene.sampler.jitter, cam_seed)
-            : make_sampler(scene.sampler.type, iterations, fp.resolution, cam_seed);
-    // Light path k of iteration i: sample k of the pseudo-pixel (i, -1) (camera pixels have
-    // y >= 0) of an Owen-scrambled Sobol sampler with N samples per pixel.
-    const PaddedSobolSampler light_proto(int(n_light), light_seed);
-    tbb::enumerable_thread_specific<ThreadState> states([&] {
-        ThreadState t;
-        t.cam_sampler = cam_proto->clone();
-        t.light_sampler = light_proto.clone();
-        return t;
-    });
-
-    std::vector<LightVertex> vertices(size_t(n_light) * size_t(stride));
-    std::vector<uint8_t> counts(size_t(n_light), 0);
-    std::vector<uint32_t> stored;
-    VertexGrid grid;
-    std::vector<PixelSum> sums = film.make_buffer();
-    std::vector<double> splat_sums = film.splat_buffer();
-    const int64_t n_chunks = (n_light + kLightChunk - 1) / kLightChunk;
-    const int64_t slab = std::max<int64_t>(16, 8 * threads);
-    std::vector<std::vector<Splat>> chunk_splats(static_cast<size_t>(slab));
-    std::vector<uint64_t> chunk_nonfinite(static_cast<size_t>(slab), 0);
-    uint64_t nonfinite = 0;
-
-    RenderStats stats;
-    const auto t0 = Clock::now();
-    const double cpu0 = process_cpu_seconds();
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
-    Progress progress(opt.progress, uint64_t(iterations) * uint64_t(n_light + n_pixels));
-    const Filter& filter = *scene.filter;
-
-    int done = 0;
-    while (done < iterations) {
-        const double iter_t0 = elapsed();
-        const int iter = done;
+    /// Starts iteration `iter` (from 0): its radius, wavelengths and the estimator's settings.
+    void start(int iter) {
+        m_iter = iter;
         // r_i = r_1 i^((alpha - 1) / 2), i from 1 (Knaus and Zwicker 2011; Georgiev et al.
         // 2012, sec. 5).
-        const Float radius = Float(double(r1) * std::pow(double(iter + 1), (double(vp.alpha) - 1) / 2));
-        const SampledWavelengths lambda =
-            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
-        vcm.start_iteration(radius, n_light, lambda);
+        radius = Float(double(r1) *
+                       std::pow(double(iter + 1), (double(m_scene.integrator.vcm.alpha) - 1) / 2));
+        lambda = m_film.sample_wavelengths(
+            pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
+        m_vcm.start_iteration(radius, n_light, lambda);
+    }
 
-        // ---- light pass, in slabs of chunks whose splats are added in chunk order ----------
+    /// The light pass, in slabs of chunks whose splats are given to `splat` (sensor values at
+    /// a film position) in chunk order, then the grid of the stored surface vertices.
+    template <typename SplatFn>
+    void light_pass(Progress* progress, uint64_t& nonfinite, SplatFn&& splat) {
+        const int64_t n_chunks = (n_light + kLightChunk - 1) / kLightChunk;
+        const int64_t slab = std::max<int64_t>(16, 8 * m_threads);
+        chunk_splats.resize(static_cast<size_t>(slab));
+        chunk_nonfinite.assign(static_cast<size_t>(slab), 0);
+        const int iter = m_iter;
         for (int64_t c0 = 0; c0 < n_chunks; c0 += slab) {
             const int64_t c1 = std::min(n_chunks, c0 + slab);
-            arena.execute([&] {
+            m_arena.execute([&] {
                 tbb::parallel_for(
                     tbb::blocked_range<int64_t>(c0, c1, 1),
                     [&](const tbb::blocked_range<int64_t>& r) {
-                        ThreadState& ts = states.local();
+                        ThreadState& ts = states->local();
                         for (int64_t c = r.begin(); c < r.end(); ++c) {
                             std::vector<Splat>& out = chunk_splats[size_t(c - c0)];
                             uint64_t& bad = chunk_nonfinite[size_t(c - c0)];
@@ -904,69 +894,183 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
                             const int64_t k1 = std::min(n_light, k0 + kLightChunk);
                             for (int64_t k = k0; k < k1; ++k) {
                                 ts.light_sampler->start_pixel_sample(Vec2i(iter, -1), int(k));
-                                vcm.light_path(*ts.light_sampler, ts.counters,
-                                               vertices.data() + size_t(k) * size_t(stride),
-                                               counts[size_t(k)], out, bad);
+                                m_vcm.light_path(*ts.light_sampler, ts.counters,
+                                                 vertices.data() + size_t(k) * size_t(stride),
+                                                 counts[size_t(k)], out, bad);
                             }
-                            progress.add(uint64_t(k1 - k0));
+                            if (progress) progress->add(uint64_t(k1 - k0));
                         }
                     },
                     tbb::simple_partitioner());
             });
             for (int64_t c = c0; c < c1; ++c) {
                 nonfinite += chunk_nonfinite[size_t(c - c0)];
-                for (const Splat& s : chunk_splats[size_t(c - c0)])
-                    film.add_splat(splat_sums, s.p, s.xyz, filter);
+                for (const Splat& s : chunk_splats[size_t(c - c0)]) splat(s);
             }
         }
-
-        // ---- the light vertices' grid ----------------------------------------------------------
+        // The light vertices' grid.
         stored.clear();
-        if (vp.merge)
+        if (m_scene.integrator.vcm.merge)
             for (int64_t k = 0; k < n_light; ++k)
                 for (int j = 0; j < counts[size_t(k)]; ++j) {
                     const size_t i = size_t(k) * size_t(stride) + size_t(j);
                     if (!vertices[i].in_medium) stored.push_back(uint32_t(i));  // surfaces only
                 }
         grid.build(vertices, stored, radius);
+    }
 
-        // ---- camera pass -------------------------------------------------------------------------
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& r) {
-                ThreadState& ts = states.local();
-                Sampler& sampler = *ts.cam_sampler;
-                for (int yy = r.begin(); yy < r.end(); ++yy) {
-                    for (int xx = 0; xx < w; ++xx) {
-                        const Vec2i pixel(fp.x0 + xx, fp.y0 + yy);
-                        // The light path this camera path connects to.
-                        const size_t k = (size_t(yy) * size_t(w) + size_t(xx)) % size_t(n_light);
-                        sampler.start_pixel_sample(pixel, iter);
-                        const FilterSample fs = filter.sample(sampler.get_pixel_2d());
-                        const Point2 u_lens = sampler.get_2d();
-                        const Point2 p_film(Float(pixel.x) + 0.5f + fs.offset.x,
-                                            Float(pixel.y) + 0.5f + fs.offset.y);
-                        const Ray ray = scene.camera->generate_ray(
-                            p_film, scene.camera->uses_lens_sample() ? u_lens : Point2(0.5f, 0.5f));
-                        SampledWavelengths lw = lambda;
-                        const SampledSpectrum L = vcm.camera_path(
-                            ray, sampler, ts.counters, vertices.data() + k * size_t(stride),
-                            counts[k], vertices, grid, lw);
-                        std::array<double, 3> xyz{0, 0, 0};
-                        bool finite = !L.has_nonfinite();
-                        if (finite) {
-                            xyz = film.to_sensor(L, lw);
-                            finite = finite3(xyz);
-                        }
-                        if (!finite) {
-                            ++ts.nonfinite;
-                            xyz = {0, 0, 0};
-                        }
-                        film.add(sums, pixel.x, pixel.y, xyz, fs.weight);
-                    }
-                }
-                progress.add(uint64_t(r.size()) * uint64_t(w));
+    /// The camera sample of the crop window's pixel (xx, yy) in the current iteration.
+    PixelSample camera_sample(ThreadState& ts, int xx, int yy) const {
+        const Filter& filter = *m_scene.filter;
+        Sampler& sampler = *ts.cam_sampler;
+        const Vec2i pixel(m_fp.x0 + xx, m_fp.y0 + yy);
+        // The light path this camera path connects to.
+        const size_t k = (size_t(yy) * size_t(w) + size_t(xx)) % size_t(n_light);
+        sampler.start_pixel_sample(pixel, m_iter);
+        const FilterSample fs = filter.sample(sampler.get_pixel_2d());
+        const Point2 u_lens = sampler.get_2d();
+        const Point2 p_film(Float(pixel.x) + 0.5f + fs.offset.x, Float(pixel.y) + 0.5f + fs.offset.y);
+        const Ray ray = m_scene.camera->generate_ray(
+            p_film, m_scene.camera->uses_lens_sample() ? u_lens : Point2(0.5f, 0.5f));
+        SampledWavelengths lw = lambda;
+        const SampledSpectrum L = m_vcm.camera_path(ray, sampler, ts.counters,
+                                                    vertices.data() + k * size_t(stride),
+                                                    counts[k], vertices, grid, lw);
+        PixelSample out;
+        out.weight = fs.weight;
+        bool finite = !L.has_nonfinite();
+        if (finite) {
+            out.xyz = m_film.to_sensor(L, lw);
+            finite = finite3(out.xyz);
+        }
+        if (!finite) {
+            ++ts.nonfinite;
+            out.xyz = {0, 0, 0};
+        }
+        return out;
+    }
+
+    int iterations() const { return m_iterations; }
+
+    int w = 0, h = 0;
+    int64_t n_pixels = 0, n_light = 0;
+    int stride = 1;
+    uint64_t cam_seed = 0;
+    Float r1 = 1e-3f, radius = 1e-3f;
+    SampledWavelengths lambda;
+    std::unique_ptr<tbb::enumerable_thread_specific<ThreadState>> states;
+
+private:
+    const Scene& m_scene;
+    const Film& m_film;
+    const FilmParams& m_fp;
+    int m_iterations;
+    int m_threads;
+    tbb::task_arena m_arena;
+    BidirContext m_ctx;
+    Vcm m_vcm;
+    int m_iter = 0;
+    std::vector<LightVertex> vertices;
+    std::vector<uint8_t> counts;
+    std::vector<uint32_t> stored;
+    VertexGrid grid;
+    std::vector<std::vector<Splat>> chunk_splats;
+    std::vector<uint64_t> chunk_nonfinite;
+};
+
+/// The header of a distributed camera pass: the render's seed and iteration count, and the
+/// iteration.
+struct BandHeader {
+    uint64_t seed;
+    int32_t iterations, iter;
+};
+
+}  // namespace
+
+RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
+    const char* kName = "Integrator \"vcm\"";
+    check_bidir_scene(scene, "vcm");
+    if (film.has_aux()) throw Error(fmt::format("{}: only the \"rgb\" film is supported yet", kName));
+    if (opt.checkpoint || opt.resume)
+        throw Error(fmt::format("{}: checkpoints are not supported yet", kName));
+    WorkCoordinator* const coord =
+        opt.distribute && opt.distribute->workers() > 0 ? opt.distribute : nullptr;
+    const int iterations = render_samples_per_pixel(scene, opt);
+    const int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    VcmRun run(scene, film, opt.seed, iterations, threads);
+    tbb::task_arena& arena = run.arena();
+    const FilmParams& fp = film.params();
+    const int w = run.w, h = run.h;
+
+    std::vector<PixelSum> sums = film.make_buffer();
+    std::vector<double> splat_sums = film.splat_buffer();
+    uint64_t nonfinite = 0, remote_rays = 0, remote_nonfinite = 0;
+
+    RenderStats stats;
+    const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    Progress progress(opt.progress, uint64_t(iterations) * uint64_t(run.n_light + run.n_pixels));
+    const Filter& filter = *scene.filter;
+    auto camera_rows = [&](int y0, int y1) {
+        ThreadState& ts = run.states->local();
+        for (int yy = y0; yy < y1; ++yy)
+            for (int xx = 0; xx < w; ++xx) {
+                const PixelSample ps = run.camera_sample(ts, xx, yy);
+                film.add(sums, fp.x0 + xx, fp.y0 + yy, ps.xyz, ps.weight);
+            }
+        progress.add(uint64_t(y1 - y0) * uint64_t(w));
+    };
+
+    int done = 0;
+    while (done < iterations) {
+        const double iter_t0 = elapsed();
+        const int iter = done;
+        run.start(iter);
+        // ---- light pass (every process traces it; this one adds the splats) ---------------
+        run.light_pass(&progress, nonfinite,
+                       [&](const Splat& s) { film.add_splat(splat_sums, s.p, s.xyz, filter); });
+        // ---- camera pass -------------------------------------------------------------------
+        if (!coord) {
+            arena.execute([&] {
+                tbb::parallel_for(tbb::blocked_range<int>(0, h, 1),
+                                  [&](const tbb::blocked_range<int>& r) {
+                                      camera_rows(r.begin(), r.end());
+                                  });
             });
-        });
+        } else {
+            // Distributed: bands of rows are the items; a worker returns each pixel's
+            // sensor values and filter weight, which are added here as this process adds its
+            // own (a pixel has one sample an iteration: the order of pixels is immaterial).
+            WorkCoordinator::Phase ph;
+            ph.kind = kVcmItems;
+            ByteWriter hw(ph.header);
+            hw.put(BandHeader{opt.seed, int32_t(iterations), int32_t(iter)});
+            ph.items = size_t((h + kBandRows - 1) / kBandRows);
+            ph.input = [](size_t, ByteWriter&) {};
+            ph.output = [&](size_t i, ByteReader& br) {
+                const int y0 = int(i) * kBandRows, y1 = std::min(h, y0 + kBandRows);
+                for (int yy = y0; yy < y1; ++yy)
+                    for (int xx = 0; xx < w; ++xx) {
+                        const auto xyz = br.get<std::array<double, 3>>();
+                        const Float weight = br.get<Float>();
+                        film.add(sums, fp.x0 + xx, fp.y0 + yy, xyz, weight);
+                    }
+                remote_rays += br.get<uint64_t>();
+                remote_nonfinite += br.get<uint64_t>();
+                progress.add(uint64_t(y1 - y0) * uint64_t(w));
+            };
+            ph.local = [&](const std::function<std::optional<size_t>()>& claim,
+                           const std::function<void(size_t)>&) {
+                run_local_share(arena, threads, claim, [] { return false; }, [&](size_t i) {
+                    const int y0 = int(i) * kBandRows;
+                    camera_rows(y0, std::min(h, y0 + kBandRows));
+                });
+            };
+            ph.abandon = [] { return false; };  // an iteration always completes
+            coord->run(ph);
+        }
         ++done;
 
         if (stop_before_next_iteration(opt, done, iterations, elapsed(), elapsed() - iter_t0,
@@ -982,14 +1086,82 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
     stats.spp = done;
     stats.wall_seconds = elapsed();
     stats.cpu_seconds = process_cpu_seconds() - cpu0;
-    stats.camera_paths = uint64_t(done) * uint64_t(n_pixels);
-    stats.nonfinite = nonfinite;
-    for (const ThreadState& t : states) {
+    stats.camera_paths = uint64_t(done) * uint64_t(run.n_pixels);
+    stats.nonfinite = nonfinite + remote_nonfinite;
+    stats.rays = remote_rays;
+    for (const ThreadState& t : *run.states) {
         stats.rays += t.counters.rays;
         stats.nonfinite += t.nonfinite;
     }
     stats.peak_rss_bytes = peak_rss_bytes();
     return stats;
+}
+
+JobHandler vcm_job_handler(const Scene& scene, int threads) {
+    // A worker's state, made on the first job of a render (seed and iteration count) and kept
+    // while they stay: the iteration's light paths and grid, traced once per iteration.
+    struct Worker {
+        Film film;
+        int threads;
+        std::unique_ptr<VcmRun> run;
+        BandHeader key{0, -1, -1};
+        int iter = -1;
+        Worker(const Scene& s, int n)
+            : film(s.film), threads(n > 0 ? n : int(std::thread::hardware_concurrency())) {}
+    };
+    auto wk = std::make_shared<Worker>(scene, threads);
+    return [&scene, wk](ByteReader& header, size_t count, ByteReader& inputs, ByteWriter& outputs) {
+        Worker& W = *wk;
+        const BandHeader hd = header.get<BandHeader>();
+        if (scene.integrator.type != "vcm")
+            throw Error(fmt::format("distributed: a vcm job, and the scene's integrator is \"{}\"",
+                                    scene.integrator.type));
+        if (hd.iterations <= 0 || hd.iter < 0 || hd.iter >= hd.iterations)
+            throw Error(fmt::format("distributed: vcm iteration {} of {}", hd.iter, hd.iterations));
+        if (!W.run || W.key.seed != hd.seed || W.key.iterations != hd.iterations) {
+            W.run = std::make_unique<VcmRun>(scene, W.film, hd.seed, hd.iterations, W.threads);
+            W.key = hd;
+            W.iter = -1;
+        }
+        VcmRun& run = *W.run;
+        if (W.iter != hd.iter) {
+            run.start(hd.iter);
+            uint64_t ignored = 0;
+            run.light_pass(nullptr, ignored, [](const Splat&) {});
+            W.iter = hd.iter;
+        }
+        std::vector<size_t> items(count);
+        for (size_t j = 0; j < count; ++j) {
+            const uint64_t item = inputs.get<uint64_t>();
+            if (item >= uint64_t((run.h + kBandRows - 1) / kBandRows))
+                throw Error("distributed: a vcm band outside the film");
+            items[j] = size_t(item);
+        }
+        std::vector<std::vector<PixelSample>> out(count);
+        std::vector<PathCounters> counters(count);
+        std::vector<uint64_t> bad(count, 0);
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(W.threads));
+        run.arena().execute([&] {
+            tbb::parallel_for(size_t(0), count, [&](size_t j) {
+                ThreadState& ts = run.states->local();
+                const uint64_t rays0 = ts.counters.rays, bad0 = ts.nonfinite;
+                const int y0 = int(items[j]) * kBandRows, y1 = std::min(run.h, y0 + kBandRows);
+                for (int yy = y0; yy < y1; ++yy)
+                    for (int xx = 0; xx < run.w; ++xx) out[j].push_back(run.camera_sample(ts, xx, yy));
+                counters[j].rays = ts.counters.rays - rays0;
+                bad[j] = ts.nonfinite - bad0;
+            }, tbb::simple_partitioner());
+        });
+        for (size_t j = 0; j < count; ++j) {
+            outputs.put(uint64_t(items[j]));
+            for (const PixelSample& ps : out[j]) {
+                outputs.put(ps.xyz);
+                outputs.put(ps.weight);
+            }
+            outputs.put(uint64_t(counters[j].rays));
+            outputs.put(bad[j]);
+        }
+    };
 }
 
 }  // namespace sr
