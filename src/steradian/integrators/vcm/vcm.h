@@ -39,7 +39,9 @@ struct RenderStats;
 /// Renders `scene` (Integrator "vcm") into `film`. Throws sr::Error for what vcm does not
 /// support: what the bidirectional integrators refuse (emissive media, subsurface materials,
 /// cameras without importance, environment maps with a portal), films other than "rgb",
-/// checkpoints, several processes.
+/// checkpoints. With opt.distribute (steradian-mpi, several processes) every process traces
+/// each iteration's light paths and the camera pass is shared in bands of film rows
+/// (vcm_job_handler, distributed.h; docs/distributed.md): the same image.
 RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& options);
 
 }  // namespace sr
