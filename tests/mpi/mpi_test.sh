@@ -2,8 +2,8 @@
 # steradian-mpi under mpirun (docs/distributed.md): renders and meter readings of 2 and 3
 # processes are bit-identical to the one-process ones (the renderer's determinism rule: the
 # same scene, seed and sample count give the same image and readings however the work is
-# split) for the path tracer, the splatting integrators (bdpt, lightpath) and the radiosity
-# method, a reading keeps its closed form, a dying process fails the job in bounded time,
+# split) for the path tracer, the splatting integrators (bdpt, lightpath), vcm and the
+# radiosity method, a reading keeps its closed form, a dying process fails the job in bounded time,
 # and errors are reported once.
 # Usage: tests/mpi/mpi_test.sh path/to/steradian path/to/steradian-mpi MPIEXEC
 set -u
@@ -239,6 +239,46 @@ check "... saying why, once" test "$(grep -c 'sppm.*does not run distributed' "$
 check "... and writes no image" test ! -e "$tmp/sppm.pfm"
 run 1 render "$tmp/sppm.pbrt" --spp 1 --quiet -o "$tmp/sppm1.pfm"
 check "sppm renders in one process" test -s "$tmp/sppm1.pfm"
+
+# Integrator "vcm": every process traces each iteration's light paths (the merging grid needs
+# them all), the coordinator adds their splats, and bands of film rows of the camera pass are
+# shared; the image is bit-identical to one process's, with 1 or 2 threads a process. A crop
+# window, a glass sphere (caustics: merging), and then the same scene filled with fog (medium
+# vertices on both subpaths, transmittance on every connection).
+cat > "$tmp/vcm.pbrt" <<'SCENE'
+LookAt 0 1 -4  0 0.5 0  0 1 0
+Camera "perspective" "float fov" [ 45 ]
+Film "rgb" "integer xresolution" [ 40 ] "integer yresolution" [ 30 ] "string filename" "v.pfm"
+     "float cropwindow" [ 0.05 0.95 0 1 ]
+Sampler "zsobol" "integer pixelsamples" [ 6 ]
+Integrator "vcm" "integer maxdepth" [ 5 ] "float radius" [ 0.05 ]
+WorldBegin
+AttributeBegin
+  Translate 1 3 -1
+  AreaLightSource "diffuse" "rgb L" [ 8 8 8 ]
+  Shape "sphere" "float radius" [ 0.4 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.6 0.5 0.4 ]
+Shape "trianglemesh" "point3 P" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeBegin
+  Translate 0 0.7 0
+  Material "dielectric" "float eta" [ 1.5 ]
+  Shape "sphere" "float radius" [ 0.7 ]
+AttributeEnd
+SCENE
+sed -e 's/^LookAt/MakeNamedMedium "fog" "string type" "homogeneous" "spectrum sigma_a" [ 300 0.05 900 0.05 ] "spectrum sigma_s" [ 300 0.3 900 0.3 ]\nMediumInterface "" "fog"\nLookAt/' \
+  -e 's/^WorldBegin/WorldBegin\nMediumInterface "fog" "fog"/' "$tmp/vcm.pbrt" > "$tmp/vcm-fog.pbrt"
+for v in vcm vcm-fog; do
+  "$one" render "$tmp/$v.pbrt" -o "$tmp/$v-ref.pfm" --threads 1 --quiet
+  check "$v: one process renders" test -s "$tmp/$v-ref.pfm"
+  for n in 2 3; do
+    for t in 1 2; do
+      run "$n" render "$tmp/$v.pbrt" -o "$tmp/$v-$n-$t.pfm" --threads "$t" --quiet > "$tmp/$v-$n-$t.txt" 2>&1
+      check "mpirun -n $n render ($v, $t threads) exits 0" test $? -eq 0
+      check "mpirun -n $n render ($v, $t threads): the image is bit-identical" cmp -s "$tmp/$v-ref.pfm" "$tmp/$v-$n-$t.pfm"
+    done
+  done
+done
 
 echo "mpi: $pass passed, $fail failed"
 test "$fail" -eq 0

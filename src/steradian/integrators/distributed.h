@@ -170,6 +170,9 @@ void serve_work(Messenger& m, const std::vector<JobHandler>& handlers, int capac
 /// Phase kinds.
 inline constexpr uint8_t kRenderTiles = 0;
 inline constexpr uint8_t kMeasureItems = 1;
+/// Integrator "vcm": bands of film rows of an iteration's camera pass (vcm.cpp). (Kinds 2
+/// and 3 are left to other integrators' phases.)
+inline constexpr uint8_t kVcmItems = 4;
 
 class Scene;
 class RadiositySolution;
@@ -182,6 +185,10 @@ JobHandler render_job_handler(const Scene& scene, int threads,
                               const RadiositySolution* radiosity = nullptr);
 JobHandler measure_job_handler(const Scene& scene, int threads,
                                const RadiositySolution* radiosity = nullptr);
+
+/// The worker handler of Integrator "vcm"'s camera passes (vcm.cpp) for `scene`, with
+/// `threads` worker threads (0: all).
+JobHandler vcm_job_handler(const Scene& scene, int threads);
 
 /// A test hook (docs/distributed.md, "A rank that dies"): when the environment variable
 /// STERADIAN_TEST_ABORT_AFTER_JOBS is N > 0, a worker aborts (SIGABRT) after N jobs.

@@ -18,7 +18,9 @@
 #include "steradian/integrators/distributed.h"
 #include "steradian/integrators/integrator.h"
 #include "steradian/integrators/iterations.h"
+#include "steradian/integrators/path/medium_transport.h"
 #include "steradian/integrators/progress.h"
+#include "steradian/media/medium.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/sampling/padded_sobol_sampler.h"
 #include "steradian/scene/scene.h"
@@ -44,13 +46,59 @@ inline Float mis(Float x) { return x * x; }
 struct LightVertex {
     Point3 p;
     Vec3 p_error;
-    Normal3 ng;
-    Vec3 wo;  ///< unit, towards the previous vertex of the light path
+    Normal3 ng;  ///< zero at a medium vertex
+    Vec3 wo;     ///< unit, towards the previous vertex of the light path
     SampledSpectrum beta{0};
     Float dvcm = 0, dvc = 0, dvm = 0;
     uint8_t length = 0;        ///< segments from the light
     bool terminated = false;   ///< the path's secondary wavelengths were terminated
-    Bsdf bsdf;
+    bool in_medium = false;    ///< a scattering in a medium (phase function g), not a surface
+    Float g = 0;
+    /// The media on the two sides (a surface's MediumInterface where it is a transition,
+    /// else the medium the path was in; a medium vertex's medium on both; -1: vacuum).
+    int medium_in = -1, medium_out = -1;
+    Bsdf bsdf;  ///< surfaces only
+};
+
+/// What scatters at a vertex: a BSDF, or (bsdf null) a medium's Henyey-Greenstein phase
+/// function, which has no cosine factor and is its own sampling density.
+struct Scatter {
+    const Bsdf* bsdf = nullptr;
+    Float g = 0;
+    SampledSpectrum f(Vec3 wo, Vec3 wi, TransportMode mode) const {
+        return bsdf ? bsdf->f(wo, wi, mode) : SampledSpectrum(hg_phase(dot(wo, wi), g));
+    }
+    Float pdf(Vec3 wo, Vec3 wi, TransportMode mode) const {
+        return bsdf ? bsdf->pdf(wo, wi, mode) : hg_phase(dot(wo, wi), g);
+    }
+    /// f and the density of sampling wi from wo (radiance transport).
+    Bsdf::Eval evaluate(Vec3 wo, Vec3 wi) const {
+        if (bsdf) return bsdf->evaluate(wo, wi);
+        const Float p = hg_phase(dot(wo, wi), g);
+        return {SampledSpectrum(p), p, 1};
+    }
+    /// The shading cosine of the scattering integral (1 in a medium).
+    Float cos_shading(Vec3 w) const { return bsdf ? absdot(w, bsdf->frame().n) : 1; }
+};
+
+/// The geometric cosine of a density conversion at a vertex of normal ng (1 in a medium).
+inline Float cos_geom(Normal3 ng, Vec3 w) {
+    return ng.x != 0 || ng.y != 0 || ng.z != 0 ? absdot(ng, w) : 1;
+}
+
+/// The medium a path leaving a vertex (normal ng, media in/out) in direction w is in.
+inline int medium_towards(Normal3 ng, int medium_in, int medium_out, Vec3 w) {
+    return dot(w, ng) < 0 ? medium_in : medium_out;
+}
+
+/// A camera path's vertex, for the strategies made at it.
+struct CameraVertex {
+    Point3 p;
+    Vec3 p_error;
+    Normal3 ng;  ///< zero at a medium vertex
+    Vec3 wo;     ///< unit, towards the previous vertex
+    int medium_in = -1, medium_out = -1;
+    Scatter sc;
 };
 
 /// A light vertex's connection to the camera as a film position and sensor values.
@@ -156,7 +204,7 @@ class Vcm {
 public:
     Vcm(const Scene& scene, const Film& film, const BidirContext& ctx, bool connect, bool merge)
         : m_scene(scene), m_film(film), m_ctx(ctx), m_mctx(scene.material_context()),
-          m_connect(connect), m_merge(merge) {}
+          m_connect(connect), m_merge(merge), m_media(!scene.media.empty()) {}
 
     /// Per iteration: the merge radius, the light paths' count and wavelengths.
     void start_iteration(Float radius, int64_t n_light, const SampledWavelengths& lambda) {
@@ -168,6 +216,7 @@ public:
         const FilmParams& fp = m_film.params();
         m_lt_factor = Float(double(fp.resolution.x) * double(fp.resolution.y) / double(n_light));
         m_lambda = lambda;
+        m_tr_key = hash(lambda[0], lambda[1], lambda[2], lambda[3]);
         const double eta = kPi * double(radius) * double(radius) * double(n_light);
         // Georgiev's mMisVmWeightFactor and mMisVcWeightFactor, the latter kept on when
         // connections are off: it also relates merging to the camera paths that hit
@@ -209,76 +258,118 @@ public:
         Ray ray = les->ray;
         Point3 prev = les->p;
         int length = 0, crossings = 0;
+        // The medium the light's ray starts in (Scene::light_media; vacuum at infinity).
+        int medium = -1;
+        if (!infinite && size_t(li) < m_scene.light_media.size())
+            medium = medium_towards(les->n, m_scene.light_media[size_t(li)].inside,
+                                    m_scene.light_media[size_t(li)].outside, les->ray.d);
         while (true) {
             SurfaceHit hit;
             ++counters.rays;
-            if (!m_scene.intersect(ray, hit)) break;
-            std::optional<Bsdf> bsdf =
-                hit.material >= 0
-                    ? make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda)
-                    : std::nullopt;
-            if (!bsdf) {
-                if (++crossings > 256) break;
-                ray = spawn_ray(hit, ray.d);
-                continue;
+            const bool found = m_scene.intersect(ray, hit);
+            Point3 p_scatter;
+            Float g = 0;
+            bool scattered = false;
+            if (medium >= 0) {
+                const Flight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
+                                      beta, p_scatter, g);
+                if (fl == Flight::Absorbed) break;
+                scattered = fl == Flight::Scattered;
+            }
+            std::optional<Bsdf> bsdf;
+            if (!scattered) {
+                if (!found) break;
+                if (hit.material >= 0)
+                    bsdf = make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda);
+                if (!bsdf) {
+                    if (++crossings > 256) break;
+                    medium = medium_after(m_scene, hit, ray.d, medium);
+                    ray = spawn_ray(hit, ray.d);
+                    continue;
+                }
             }
             ++length;
-            const Float cos_in = absdot(hit.ng, hit.wo);
+            // The vertex: a surface, or a scattering in the medium (no normal, no cosine).
+            const Point3 p = scattered ? p_scatter : hit.p;
+            const Normal3 ng = scattered ? Normal3(0, 0, 0) : hit.ng;
+            const Vec3 wo = scattered ? -normalize(ray.d) : hit.wo;
+            const Float cos_in = scattered ? 1 : absdot(hit.ng, hit.wo);
             if (!(cos_in > 0)) break;
             if (length == 1) {
                 // dVCM at the first vertex: the density with which a light sample taken
                 // here picks the light's point over the density of the emitted ray (both in
                 // area measure here; the light's choice cancels).
-                const Float d2 = length_squared(hit.p - prev);
+                const Float d2 = length_squared(p - prev);
                 Float nee_over_emit = 0;
                 if (delta_pos)
                     nee_over_emit = d2 / (les->pdf_dir * cos_in);
                 else if (delta_dir)
                     nee_over_emit = 1 / (les->pdf_pos * cos_in);
                 else if (infinite)
-                    nee_over_emit = infinite_pdf_li(light, hit.p, -les->ray.d) /
+                    nee_over_emit = infinite_pdf_li(light, p, -les->ray.d) /
                                     (les->pdf_pos * les->pdf_dir * cos_in);
                 else if (const auto* area = std::get_if<DiffuseAreaLight>(&light))
-                    nee_over_emit = area->pdf_li_point(LightSampleContext{hit.p, hit.p_error, hit.ng},
-                                                       les->p, les->n) *
-                                    cos0 / (les->pdf_pos * les->pdf_dir * cos_in);
+                    nee_over_emit =
+                        area->pdf_li_point(LightSampleContext{p, scattered ? Vec3(0, 0, 0) : hit.p_error, ng},
+                                           les->p, les->n) *
+                        cos0 / (les->pdf_pos * les->pdf_dir * cos_in);
                 dvcm = mis(nee_over_emit);
                 dvc = dvc0 / mis(cos_in);
                 dvm = dvc * m_vc_factor;
             } else {
-                const Float d2 = length_squared(hit.p - prev);
+                const Float d2 = length_squared(p - prev);
                 dvcm *= mis(d2) / mis(cos_in);
                 dvc /= mis(cos_in);
                 dvm /= mis(cos_in);
             }
-            const bool stored = bsdf->has_non_specular();
+            // Medium vertices are stored too (connectible), but never merged.
+            const bool stored = scattered || bsdf->has_non_specular();
             // The camera connection's numbers, drawn whether or not it is made.
             const Point2 u_cam = m_connect ? sampler.get_2d() : Point2(0.5f, 0.5f);
             if (stored) {
                 LightVertex& v = out[count++];
-                v.p = hit.p;
-                v.p_error = hit.p_error;
-                v.ng = hit.ng;
-                v.wo = hit.wo;
+                v.p = p;
+                v.p_error = scattered ? Vec3(0, 0, 0) : hit.p_error;
+                v.ng = ng;
+                v.wo = wo;
                 v.beta = beta;
                 v.dvcm = dvcm;
                 v.dvc = dvc;
                 v.dvm = dvm;
                 v.length = uint8_t(length);
                 v.terminated = lambda.secondary_terminated();
-                v.bsdf = *bsdf;
+                v.in_medium = scattered;
+                v.g = g;
+                if (scattered) {
+                    v.medium_in = v.medium_out = medium;
+                } else {
+                    v.medium_in = medium_after(m_scene, hit, -hit.ng, medium);
+                    v.medium_out = medium_after(m_scene, hit, hit.ng, medium);
+                    v.bsdf = *bsdf;
+                }
                 if (m_connect) connect_to_camera(v, u_cam, lambda, counters, splats, nonfinite);
             }
             if (length >= max_depth) break;
             const Float uc = sampler.get_1d();
             const Point2 u = sampler.get_2d();
+            prev = p;
+            if (scattered) {
+                // The phase function is sampled exactly: beta is unchanged, and the reverse
+                // density is the same value (it is symmetric).
+                const PhaseSample ps = sample_hg(wo, g, u);
+                if (!(ps.p > 0)) break;
+                update_mis(ps.p, ps.p, 1, false, false, dvcm, dvc, dvm);
+                ray = Ray{p, ps.wi, kInfinity};
+                continue;
+            }
             auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Importance);
             if (!bs) break;
             const Float cos_out = absdot(hit.ng, bs->wi);
             beta *= bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
             if (beta.is_zero() || beta.has_nonfinite()) break;
-            update_scattering(*bsdf, hit.wo, *bs, cos_out, TransportMode::Radiance, dvcm, dvc, dvm);
-            prev = hit.p;
+            update_mis(bs->pdf_sa, bsdf->pdf(bs->wi, hit.wo, TransportMode::Radiance), cos_out,
+                       bs->is_specular(), true, dvcm, dvc, dvm);
+            medium = medium_after(m_scene, hit, bs->wi, medium);
             ray = spawn_ray(hit, bs->wi);
         }
     }
@@ -320,10 +411,21 @@ public:
         Point3 prev = camera_ray.o;
         LightSampleContext prev_ctx{camera_ray.o, {0, 0, 0}, {0, 0, 0}};
         int length = 0, crossings = 0;
+        int medium = m_scene.camera_medium;
         while (true) {
             SurfaceHit hit;
             ++counters.rays;
-            if (!m_scene.intersect(ray, hit)) {
+            const bool found = m_scene.intersect(ray, hit);
+            Point3 p_scatter;
+            Float g = 0;
+            bool scattered = false;
+            if (medium >= 0) {
+                const Flight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
+                                      beta, p_scatter, g);
+                if (fl == Flight::Absorbed) break;
+                scattered = fl == Flight::Scattered;
+            }
+            if (!scattered && !found) {
                 for (int li : m_scene.infinite_lights) {
                     const Light& l = m_scene.lights[size_t(li)];
                     Float pdf_sa = 0;
@@ -341,25 +443,46 @@ public:
                 }
                 break;
             }
-            std::optional<Bsdf> bsdf =
-                hit.material >= 0
-                    ? make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda)
-                    : std::nullopt;
-            if (!bsdf) {
-                if (++crossings > 256) break;
-                ray = spawn_ray(hit, ray.d);
-                continue;
+            std::optional<Bsdf> bsdf;
+            if (!scattered) {
+                if (hit.material >= 0)
+                    bsdf = make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda);
+                if (!bsdf) {
+                    if (++crossings > 256) break;
+                    medium = medium_after(m_scene, hit, ray.d, medium);
+                    ray = spawn_ray(hit, ray.d);
+                    continue;
+                }
             }
             ++length;
-            const Float cos_in = absdot(hit.ng, hit.wo);
+            CameraVertex cv;
+            if (scattered) {
+                cv.p = p_scatter;
+                cv.p_error = Vec3(0, 0, 0);
+                cv.ng = Normal3(0, 0, 0);
+                cv.wo = -normalize(ray.d);
+                cv.medium_in = cv.medium_out = medium;
+                cv.sc = Scatter{nullptr, g};
+            } else {
+                cv.p = hit.p;
+                cv.p_error = hit.p_error;
+                cv.ng = hit.ng;
+                cv.wo = hit.wo;
+                if (m_media) {
+                    cv.medium_in = medium_after(m_scene, hit, -hit.ng, medium);
+                    cv.medium_out = medium_after(m_scene, hit, hit.ng, medium);
+                }
+                cv.sc = Scatter{&*bsdf, 0};
+            }
+            const Float cos_in = scattered ? 1 : absdot(hit.ng, hit.wo);
             if (!(cos_in > 0)) break;
-            const Float d2 = length_squared(hit.p - prev);
+            const Float d2 = length_squared(cv.p - prev);
             dvcm *= mis(d2) / mis(cos_in);
             dvc /= mis(cos_in);
             dvm /= mis(cos_in);
 
             // s = 0: an emitter found by the camera path.
-            if (hit.light >= 0) {
+            if (!scattered && hit.light >= 0) {
                 const Light& l = m_scene.lights[size_t(hit.light)];
                 const SampledSpectrum le = light_emitted(l, hit.p, hit.ng, hit.wo, lambda);
                 if (!le.is_zero()) {
@@ -380,24 +503,24 @@ public:
             }
             if (length > max_depth) break;
 
-            const bool non_specular = bsdf->has_non_specular();
+            // Medium vertices connect (light samples, connections) but do not merge.
+            const bool non_specular = scattered || bsdf->has_non_specular();
             const Float ul = sampler.get_1d();
             const Point2 u_light = sampler.get_2d();
             if (non_specular && m_connect) {
                 // s = 1: a light sample.
                 if (length < max_depth + 1)
-                    add(sample_light(hit, *bsdf, beta, dvcm, dvc, ul, u_light, lambda, counters),
-                        false);
+                    add(sample_light(cv, beta, dvcm, dvc, ul, u_light, lambda, counters), false);
                 // Vertex connection with this pixel's light path.
                 for (int j = 0; j < n_light; ++j) {
                     const LightVertex& v = light[j];
                     if (int(v.length) + length > max_depth) continue;
-                    const SampledSpectrum c = connect(hit, *bsdf, beta, dvcm, dvc, v, counters);
+                    const SampledSpectrum c = connect(cv, beta, dvcm, dvc, v, lambda, counters);
                     if (!c.is_zero()) add(c, v.terminated);
                 }
             }
-            if (non_specular && m_merge) {
-                // Vertex merging with every light vertex within the radius.
+            if (!scattered && non_specular && m_merge) {
+                // Vertex merging with every (surface) light vertex within the radius.
                 SampledSpectrum sum(0), sum_term(0);
                 grid.query(hit.p, m_radius, [&](uint32_t i) {
                     const LightVertex& v = all[i];
@@ -423,14 +546,24 @@ public:
             const Float uc = sampler.get_1d();
             const Point2 u = sampler.get_2d();
             if (length > max_depth) break;
+            prev = cv.p;
+            prev_ctx = LightSampleContext{cv.p, cv.p_error, cv.ng};
+            if (scattered) {
+                // Sampled exactly: beta is unchanged, the reverse density the same value.
+                const PhaseSample ps = sample_hg(cv.wo, g, u);
+                if (!(ps.p > 0)) break;
+                update_mis(ps.p, ps.p, 1, false, false, dvcm, dvc, dvm);
+                ray = Ray{cv.p, ps.wi, kInfinity};
+                continue;
+            }
             auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Radiance);
             if (!bs) break;
             const Float cos_out = absdot(hit.ng, bs->wi);
             beta *= bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
             if (beta.is_zero() || beta.has_nonfinite()) break;
-            update_scattering(*bsdf, hit.wo, *bs, cos_out, TransportMode::Importance, dvcm, dvc, dvm);
-            prev = hit.p;
-            prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
+            update_mis(bs->pdf_sa, bsdf->pdf(bs->wi, hit.wo, TransportMode::Importance), cos_out,
+                       bs->is_specular(), true, dvcm, dvc, dvm);
+            medium = medium_after(m_scene, hit, bs->wi, medium);
             ray = spawn_ray(hit, bs->wi);
         }
         return finish();
@@ -438,30 +571,98 @@ public:
 
 private:
     /// Eqs. 34-36 of the report (SmallVCM's SampleScattering): the MIS quantities after a
-    /// vertex sampled its next direction; rev_mode is the other subpath's transport mode.
-    void update_scattering(const Bsdf& bsdf, Vec3 wo, const BsdfSample& bs, Float cos_out,
-                           TransportMode rev_mode, Float& dvcm, Float& dvc, Float& dvm) const {
-        if (bs.is_specular()) {
+    /// vertex sampled its next direction with solid-angle density pdf_sa (rev: the density of
+    /// the reverse direction, in the other subpath's transport mode; cos_out: the geometric
+    /// cosine there, 1 in a medium). `mergeable`: whether the vertex is one at which paths
+    /// are merged (a surface); a medium vertex is connectible but not merged, so the merging
+    /// terms of the vertex itself (eta in dVC, 1 in dVM) are left out, as a specular vertex
+    /// leaves out every term of its own.
+    void update_mis(Float pdf_sa, Float rev, Float cos_out, bool specular, bool mergeable,
+                    Float& dvcm, Float& dvc, Float& dvm) const {
+        if (specular) {
             // The densities of both directions are the lobe's probability: their ratio is 1.
             dvcm = 0;
             dvc *= mis(cos_out);
             dvm *= mis(cos_out);
             return;
         }
-        const Float rev = bsdf.pdf(bs.wi, wo, rev_mode);
-        const Float g = mis(cos_out / bs.pdf_sa);
-        dvc = g * (dvc * mis(rev) + m_vc * dvcm + m_vm_factor);
-        dvm = g * (dvm * mis(rev) + m_vc * dvcm * m_vc_factor + 1);
-        dvcm = mis(1 / bs.pdf_sa);
+        const Float g = mis(cos_out / pdf_sa);
+        dvc = g * (dvc * mis(rev) + m_vc * dvcm + (mergeable ? m_vm_factor : 0));
+        dvm = g * (dvm * mis(rev) + m_vc * dvcm * m_vc_factor + (mergeable ? 1 : 0));
+        dvcm = mis(1 / pdf_sa);
     }
 
-    /// Whether nothing blocks the segment between two points (b at infinity: along dir).
-    bool unoccluded(Point3 a, Vec3 a_err, Normal3 a_n, Point3 b, Vec3 b_err, Normal3 b_n,
-                    PathCounters& counters) const {
-        ++counters.rays;
+    enum class Flight { Absorbed, Passed, Scattered };
+
+    /// A free flight along `ray` (in `medium`) up to t_max by delta tracking against the
+    /// medium's majorant (pbrt-v4's SampleT_maj, as volpath's and bdpt's random walks):
+    /// absorption ends the path, a real scattering is a medium vertex (p, phase asymmetry
+    /// g), null collisions go on; the hero wavelength's probabilities choose, the others are
+    /// weighted by their ratio to it. Two sampler dimensions: the first flight and the key
+    /// of the stream of the rest.
+    Flight fly(const Ray& ray, int medium, Float t_max, Sampler& sampler,
+               const SampledWavelengths& lambda, SampledSpectrum& beta, Point3& p, Float& g) const {
+        const Float u = sampler.get_1d();
+        const Float uk = sampler.get_1d();
+        Pcg32 rng = tracking_rng(hash(uk, ray.o.x, ray.o.y, ray.o.z), hash(ray.d.x, ray.d.y, ray.d.z));
+        bool scattered = false, absorbed = false;
+        const SampledSpectrum t_maj = sample_t_maj(
+            m_scene.media[size_t(medium)], ray, t_max, u, rng, lambda,
+            [&](Point3 pc, const MediumProperties& mp, SampledSpectrum sigma_maj, SampledSpectrum tm) {
+                const Float p_absorb = mp.sigma_a[0] / sigma_maj[0];
+                const Float p_real = mp.sigma_s[0] / sigma_maj[0];
+                const Float um = rng.next_float();
+                if (um < p_absorb) {
+                    absorbed = true;
+                    return false;
+                }
+                if (um < p_absorb + p_real) {
+                    beta *= tm * mp.sigma_s / (tm[0] * mp.sigma_s[0]);
+                    p = pc;
+                    g = mp.g;
+                    scattered = true;
+                    return false;
+                }
+                SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
+                for (int i = 0; i < kSpectrumSamples; ++i) sigma_n[i] = std::max(sigma_n[i], Float(0));
+                const Float pdf = tm[0] * sigma_n[0];
+                beta = pdf > 0 ? beta * tm * sigma_n / pdf : SampledSpectrum(0);
+                return !beta.is_zero();
+            });
+        if (absorbed || beta.is_zero() || beta.has_nonfinite()) return Flight::Absorbed;
+        if (scattered) return Flight::Scattered;
+        beta *= t_maj / t_maj[0];
+        if (beta.is_zero() || beta.has_nonfinite()) return Flight::Absorbed;
+        return Flight::Passed;
+    }
+
+    /// The transmittance along a shadow ray starting in `medium` (pbrt-v4's Integrator::Tr
+    /// by ratio tracking, as bdpt's connections): zero if a surface with a material blocks
+    /// it. Without media, visibility alone.
+    SampledSpectrum transmittance(const Ray& ray, int medium, bool to_point,
+                                  const SampledWavelengths& lambda, PathCounters& counters) const {
+        if (!m_media) {
+            ++counters.rays;
+            return SampledSpectrum(m_scene.occluded(ray) ? 0 : 1);
+        }
+        SampledSpectrum r_l(1), r_u(1);
+        const SampledSpectrum t = shadow_transmittance(m_scene, ray, medium, to_point, lambda, r_l,
+                                                       r_u, m_tr_key, counters);
+        if (t.is_zero()) return t;
+        const SampledSpectrum w = t / r_l.average();
+        return w.has_nonfinite() ? SampledSpectrum(0) : w;
+    }
+
+    /// The transmittance between points a (in medium_a towards b) and b.
+    SampledSpectrum tr(Point3 a, Vec3 a_err, Normal3 a_n, int medium_a, Point3 b, Vec3 b_err,
+                       Normal3 b_n, const SampledWavelengths& lambda, PathCounters& counters) const {
         const Point3 o = offset_ray_origin(a, a_err, a_n, b - a);
         const Point3 t = offset_ray_origin(b, b_err, b_n, o - b);
-        return !m_scene.occluded(Ray{o, t - o, 1 - Float(1e-4)});
+        return transmittance(Ray{o, t - o, 1 - Float(1e-4)}, medium_a, true, lambda, counters);
+    }
+
+    static Scatter scatter_of(const LightVertex& v) {
+        return v.in_medium ? Scatter{nullptr, v.g} : Scatter{&v.bsdf, 0};
     }
 
     /// t = 1: light vertex v connected to the camera (eq. 44 and SmallVCM's
@@ -471,20 +672,23 @@ private:
                            uint64_t& nonfinite) const {
         auto cs = m_scene.camera->sample_wi(v.p, u);
         if (!cs || !(cs->pdf > 0) || !m_ctx.inside(cs->p_raster)) return;
-        const SampledSpectrum f = v.bsdf.f(v.wo, cs->wi, TransportMode::Importance);
+        const Scatter sc = scatter_of(v);
+        const SampledSpectrum f = sc.f(v.wo, cs->wi, TransportMode::Importance);
         if (f.is_zero()) return;
-        SampledSpectrum c =
-            v.beta * f * (absdot(cs->wi, v.bsdf.frame().n) * cs->we / cs->pdf * m_lt_factor);
+        SampledSpectrum c = v.beta * f * (sc.cos_shading(cs->wi) * cs->we / cs->pdf * m_lt_factor);
         if (c.is_zero()) return;
         Float cam_pos = 0, cam_dir = 0;
         m_scene.camera->pdf_we(Ray{cs->p_lens, -cs->wi, kInfinity}, cam_pos, cam_dir);
         const Float d2 = length_squared(cs->p_lens - v.p);
         // The density (per pixel, area at v) of a camera path reaching v, over N.
-        const Float cam_a = m_lt_factor * cam_dir * absdot(v.ng, cs->wi) / d2;
-        const Float rev = v.bsdf.pdf(cs->wi, v.wo, TransportMode::Radiance);
-        const Float wl = mis(cam_a) * (m_vm_factor + v.dvcm + v.dvc * mis(rev));
+        const Float cam_a = m_lt_factor * cam_dir * cos_geom(v.ng, cs->wi) / d2;
+        const Float rev = sc.pdf(cs->wi, v.wo, TransportMode::Radiance);
+        const Float vm = v.in_medium ? 0 : m_vm_factor;  // merging at v
+        const Float wl = mis(cam_a) * (vm + v.dvcm + v.dvc * mis(rev));
         c *= 1 / (1 + wl);
-        if (!unoccluded(v.p, v.p_error, v.ng, cs->p_lens, {0, 0, 0}, cs->n_lens, counters)) return;
+        c *= tr(v.p, v.p_error, v.ng, medium_towards(v.ng, v.medium_in, v.medium_out, cs->wi),
+                cs->p_lens, {0, 0, 0}, cs->n_lens, lambda, counters);
+        if (c.is_zero()) return;
         SampledWavelengths lw = lambda;
         if (v.terminated) lw.terminate_secondary();
         std::array<double, 3> xyz{0, 0, 0};
@@ -502,30 +706,30 @@ private:
     }
 
     /// s = 1 (eqs. 40-41, SmallVCM's DirectIllumination).
-    SampledSpectrum sample_light(const SurfaceHit& hit, const Bsdf& bsdf, const SampledSpectrum& beta,
-                                 Float dvcm, Float dvc, Float ul, Point2 u,
-                                 const SampledWavelengths& lambda, PathCounters& counters) const {
+    SampledSpectrum sample_light(const CameraVertex& cv, const SampledSpectrum& beta, Float dvcm,
+                                 Float dvc, Float ul, Point2 u, const SampledWavelengths& lambda,
+                                 PathCounters& counters) const {
         if (m_scene.light_sampler.empty()) return SampledSpectrum(0);
         Float pmf = 0;
         const int li = m_scene.light_sampler.sample(ul, pmf);
         if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
         const Light& light = m_scene.lights[size_t(li)];
-        auto ls = sample_li(light, LightSampleContext{hit.p, hit.p_error, hit.ng}, u, lambda, false);
+        auto ls = sample_li(light, LightSampleContext{cv.p, cv.p_error, cv.ng}, u, lambda, false);
         if (!ls || ls->L.is_zero() || !(ls->pdf_sa > 0)) return SampledSpectrum(0);
-        const Bsdf::Eval e = bsdf.evaluate(hit.wo, ls->wi);
+        const Bsdf::Eval e = cv.sc.evaluate(cv.wo, ls->wi);
         if (e.f.is_zero()) return SampledSpectrum(0);
-        const Float cos_shading = absdot(ls->wi, bsdf.frame().n);
+        const Float cos_shading = cv.sc.cos_shading(ls->wi);
         SampledSpectrum c = beta * e.f * ls->L * (cos_shading / (pmf * ls->pdf_sa));
         if (c.is_zero()) return c;
         const bool delta_pos = light_delta_position(light), delta_dir = light_delta_direction(light);
-        const Float cos_x = absdot(hit.ng, ls->wi);
+        const Float cos_x = cos_geom(cv.ng, ls->wi);
         // The density of the light path's emission making this segment, over the light
         // sample's (both at this vertex; the light's choice cancels).
         Float ppos = 0, pdir = 0;
         pdf_le(light, ls->p_light, ls->n_light, -ls->wi, ppos, pdir);
         Float emit_over_nee = 0;
         if (delta_pos) {
-            emit_over_nee = pdir * cos_x / length_squared(ls->p_light - hit.p);
+            emit_over_nee = pdir * cos_x / length_squared(ls->p_light - cv.p);
         } else if (delta_dir) {
             emit_over_nee = ppos * cos_x;
         } else if (ls->at_infinity) {
@@ -535,51 +739,49 @@ private:
             emit_over_nee = cos_l > 0 ? ppos * pdir * cos_x / (ls->pdf_sa * cos_l) : 0;
         }
         const Float bsdf_dir = delta_pos || delta_dir ? 0 : e.pdf_sa;
-        const Float rev = bsdf.pdf(ls->wi, hit.wo, TransportMode::Importance);
+        const Float rev = cv.sc.pdf(ls->wi, cv.wo, TransportMode::Importance);
+        const Float vm = cv.sc.bsdf ? m_vm_factor : 0;  // merging at this vertex
         const Float wl = mis(bsdf_dir / (pmf * ls->pdf_sa));
-        const Float wc = mis(emit_over_nee) * (m_vm_factor + dvcm + dvc * mis(rev));
+        const Float wc = mis(emit_over_nee) * (vm + dvcm + dvc * mis(rev));
         c *= 1 / (1 + wl + wc);
-        ++counters.rays;
-        bool visible;
+        const int medium = medium_towards(cv.ng, cv.medium_in, cv.medium_out, ls->wi);
         if (ls->at_infinity) {
-            const Point3 o = offset_ray_origin(hit.p, hit.p_error, hit.ng, ls->wi);
-            visible = !m_scene.occluded(Ray{o, ls->wi, kInfinity});
-        } else {
-            --counters.rays;
-            visible = unoccluded(hit.p, hit.p_error, hit.ng, ls->p_light, ls->p_error, ls->n_light,
-                                 counters);
+            const Point3 o = offset_ray_origin(cv.p, cv.p_error, cv.ng, ls->wi);
+            return c * transmittance(Ray{o, ls->wi, kInfinity}, medium, false, lambda, counters);
         }
-        return visible ? c : SampledSpectrum(0);
+        return c * tr(cv.p, cv.p_error, cv.ng, medium, ls->p_light, ls->p_error, ls->n_light, lambda,
+                      counters);
     }
 
     /// Vertex connection (eqs. 42-43, SmallVCM's ConnectVertices).
-    SampledSpectrum connect(const SurfaceHit& hit, const Bsdf& bsdf, const SampledSpectrum& beta,
-                            Float dvcm, Float dvc, const LightVertex& v,
+    SampledSpectrum connect(const CameraVertex& cv, const SampledSpectrum& beta, Float dvcm,
+                            Float dvc, const LightVertex& v, const SampledWavelengths& lambda,
                             PathCounters& counters) const {
-        Vec3 d = v.p - hit.p;
+        Vec3 d = v.p - cv.p;
         const Float d2 = length_squared(d);
         if (!(d2 > 0)) return SampledSpectrum(0);
         d = d / std::sqrt(d2);
-        const Bsdf::Eval ec = bsdf.evaluate(hit.wo, d);
+        const Bsdf::Eval ec = cv.sc.evaluate(cv.wo, d);
         if (ec.f.is_zero()) return SampledSpectrum(0);
-        const SampledSpectrum fl = v.bsdf.f(v.wo, -d, TransportMode::Importance);
+        const Scatter vs = scatter_of(v);
+        const SampledSpectrum fl = vs.f(v.wo, -d, TransportMode::Importance);
         if (fl.is_zero()) return SampledSpectrum(0);
-        const Float g = absdot(d, bsdf.frame().n) * absdot(d, v.bsdf.frame().n) / d2;
+        const Float g = cv.sc.cos_shading(d) * vs.cos_shading(d) / d2;
         SampledSpectrum c = beta * ec.f * fl * v.beta * g;
         if (c.is_zero()) return c;
-        const Float cam_rev = bsdf.pdf(d, hit.wo, TransportMode::Importance);
-        const Float light_dir = v.bsdf.pdf(v.wo, -d, TransportMode::Importance);
-        const Float light_rev = v.bsdf.pdf(-d, v.wo, TransportMode::Radiance);
-        const Float cam_dir_a = ec.pdf_sa * absdot(v.ng, d) / d2;
-        const Float light_dir_a = light_dir * absdot(hit.ng, d) / d2;
-        const Float wl = mis(cam_dir_a) * (m_vm_factor + v.dvcm + v.dvc * mis(light_rev));
-        const Float wc = mis(light_dir_a) * (m_vm_factor + dvcm + dvc * mis(cam_rev));
+        const Float cam_rev = cv.sc.pdf(d, cv.wo, TransportMode::Importance);
+        const Float light_dir = vs.pdf(v.wo, -d, TransportMode::Importance);
+        const Float light_rev = vs.pdf(-d, v.wo, TransportMode::Radiance);
+        const Float cam_dir_a = ec.pdf_sa * cos_geom(v.ng, d) / d2;
+        const Float light_dir_a = light_dir * cos_geom(cv.ng, d) / d2;
+        // Merging at either end of the connection, where it is a surface.
+        const Float vm_light = v.in_medium ? 0 : m_vm_factor, vm_cam = cv.sc.bsdf ? m_vm_factor : 0;
+        const Float wl = mis(cam_dir_a) * (vm_light + v.dvcm + v.dvc * mis(light_rev));
+        const Float wc = mis(light_dir_a) * (vm_cam + dvcm + dvc * mis(cam_rev));
         c *= 1 / (1 + wl + wc);
-        if (!unoccluded(hit.p, hit.p_error, hit.ng, v.p, v.p_error, v.ng, counters))
-            return SampledSpectrum(0);
-        return c;
+        return c * tr(cv.p, cv.p_error, cv.ng, medium_towards(cv.ng, cv.medium_in, cv.medium_out, d),
+                      v.p, v.p_error, v.ng, lambda, counters);
     }
-
     const Scene& m_scene;
     const Film& m_film;
     const BidirContext& m_ctx;
@@ -590,112 +792,99 @@ private:
     Float m_lt_factor = 1;
     SampledWavelengths m_lambda;
     Float m_vm_factor = 0, m_vc_factor = 0, m_vc = 1, m_merge_norm = 0;
+    const bool m_media;  ///< the scene has media: connections track transmittance
+    uint64_t m_tr_key = 0;  ///< keys the ratio-tracking streams of an iteration's connections
 };
 
 /// Rotates the iterations' wavelengths (pass_wavelength_sample) apart from the other
 /// iterative integrators'.
 constexpr uint64_t kWavelengthSalt = 0x56434d5f4c414d42ULL;
 
-}  // namespace
+/// Film rows per item of a distributed camera pass.
+constexpr int kBandRows = 4;
 
-RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
-    const char* kName = "Integrator \"vcm\"";
-    check_bidir_scene(scene, "vcm");
-    // check_bidir_scene accepts media (bdpt traces them); vcm's subpaths do not.
-    if (!scene.media.empty() || scene.integrator.volumetric)
-        throw Error(fmt::format("{}: participating media are not supported yet (use \"bdpt\" "
-                                "or \"volpath\")",
-                                kName));
-    if (film.has_aux()) throw Error(fmt::format("{}: only the \"rgb\" film is supported yet", kName));
-    if (opt.checkpoint || opt.resume)
-        throw Error(fmt::format("{}: checkpoints are not supported yet", kName));
-    if (opt.distribute && opt.distribute->workers() > 0)
-        throw Error(fmt::format("{}: distributed rendering (steradian-mpi with more than one "
-                                "process) is not supported yet; run it in one process",
-                                kName));
-    const VcmParams& vp = scene.integrator.vcm;
-    const FilmParams& fp = film.params();
-    const int w = fp.width(), h = fp.height();
-    const int64_t n_pixels = int64_t(w) * int64_t(h);
-    const int iterations = render_samples_per_pixel(scene, opt);
-    const int max_depth = scene.integrator.max_depth;
-    const int stride = std::max(1, max_depth);
-    const int64_t n_light = vp.light_paths > 0 ? int64_t(vp.light_paths) : n_pixels;
-    if (double(n_light) * stride * sizeof(LightVertex) > kMaxVertexBytes || n_light > INT32_MAX)
-        throw Error(fmt::format("{}: the light vertices of one iteration ({} light paths of up "
-                                "to {} vertices, {} bytes each) would take more than {} GiB; "
-                                "lower \"lightpathsperiteration\" (or the resolution) or "
-                                "\"maxdepth\"",
-                                kName, n_light, stride, sizeof(LightVertex),
-                                kMaxVertexBytes / double(1 << 30)));
-    const uint64_t cam_seed = scene.sampler.seed + opt.seed;
-    const uint64_t light_seed = uint64_t(int64_t(vp.seed)) + opt.seed;
-    // The initial radius: the scene's, or SmallVCM's default of 0.003 times the radius of
-    // the scene's bounding sphere.
-    Float r1 = vp.radius;
-    if (!(r1 > 0)) r1 = Float(0.003 * 0.5 * double(length(scene.bounds.hi - scene.bounds.lo)));
-    if (!(r1 > 0) || !std::isfinite(r1)) r1 = 1e-3f;
+/// One camera sample's result: sensor values and filter weight (film.add's arguments).
+struct PixelSample {
+    std::array<double, 3> xyz{0, 0, 0};
+    Float weight = 0;
+};
 
-    const int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
-    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
-    tbb::task_arena arena(threads);
+/// What an iteration needs, shared by the single process, the coordinator and the workers of
+/// a distributed render (each process traces every light path of an iteration itself: the
+/// merging grid needs all of them, and they are pure functions of (iteration, path, seed)).
+class VcmRun {
+public:
+    VcmRun(const Scene& scene, const Film& film, uint64_t seed, int iterations, int threads)
+        : m_scene(scene), m_film(film), m_fp(film.params()), m_iterations(iterations),
+          m_threads(threads), m_arena(threads), m_ctx(scene),
+          m_vcm(scene, film, m_ctx, scene.integrator.vcm.connect, scene.integrator.vcm.merge) {
+        const VcmParams& vp = scene.integrator.vcm;
+        w = m_fp.width(), h = m_fp.height();
+        n_pixels = int64_t(w) * int64_t(h);
+        stride = std::max(1, scene.integrator.max_depth);
+        n_light = vp.light_paths > 0 ? int64_t(vp.light_paths) : n_pixels;
+        if (double(n_light) * stride * sizeof(LightVertex) > kMaxVertexBytes || n_light > INT32_MAX)
+            throw Error(fmt::format("Integrator \"vcm\": the light vertices of one iteration ({} "
+                                    "light paths of up to {} vertices, {} bytes each) would take "
+                                    "more than {} GiB; lower \"lightpathsperiteration\" (or the "
+                                    "resolution) or \"maxdepth\"",
+                                    n_light, stride, sizeof(LightVertex),
+                                    kMaxVertexBytes / double(1 << 30)));
+        cam_seed = scene.sampler.seed + seed;
+        const uint64_t light_seed = uint64_t(int64_t(vp.seed)) + seed;
+        // The initial radius: the scene's, or SmallVCM's default of 0.003 times the radius
+        // of the scene's bounding sphere.
+        r1 = vp.radius;
+        if (!(r1 > 0)) r1 = Float(0.003 * 0.5 * double(length(scene.bounds.hi - scene.bounds.lo)));
+        if (!(r1 > 0) || !std::isfinite(r1)) r1 = 1e-3f;
+        std::shared_ptr<Sampler> cam_proto(
+            scene.sampler.type == "stratified"
+                ? make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
+                                          scene.sampler.jitter, cam_seed)
+                : make_sampler(scene.sampler.type, iterations, m_fp.resolution, cam_seed));
+        // Light path k of iteration i: sample k of the pseudo-pixel (i, -1) (camera pixels
+        // have y >= 0) of an Owen-scrambled Sobol sampler with N samples per pixel.
+        auto light_proto = std::make_shared<PaddedSobolSampler>(int(n_light), light_seed);
+        states = std::make_unique<tbb::enumerable_thread_specific<ThreadState>>([cam_proto, light_proto] {
+            ThreadState t;
+            t.cam_sampler = cam_proto->clone();
+            t.light_sampler = light_proto->clone();
+            return t;
+        });
+        vertices.resize(size_t(n_light) * size_t(stride));
+        counts.assign(size_t(n_light), 0);
+    }
 
-    BidirContext ctx(scene);
-    Vcm vcm(scene, film, ctx, vp.connect, vp.merge);
+    tbb::task_arena& arena() { return m_arena; }
 
-    std::unique_ptr<Sampler> cam_proto =
-        scene.sampler.type == "stratified"
-            ? make_stratified_sampler(scene.sampler.x_samples, scene.sampler.y_samples,
-                                      scene.sampler.jitter, cam_seed)
-            : make_sampler(scene.sampler.type, iterations, fp.resolution, cam_seed);
-    // Light path k of iteration i: sample k of the pseudo-pixel (i, -1) (camera pixels have
-    // y >= 0) of an Owen-scrambled Sobol sampler with N samples per pixel.
-    const PaddedSobolSampler light_proto(int(n_light), light_seed);
-    tbb::enumerable_thread_specific<ThreadState> states([&] {
-        ThreadState t;
-        t.cam_sampler = cam_proto->clone();
-        t.light_sampler = light_proto.clone();
-        return t;
-    });
-
-    std::vector<LightVertex> vertices(size_t(n_light) * size_t(stride));
-    std::vector<uint8_t> counts(size_t(n_light), 0);
-    std::vector<uint32_t> stored;
-    VertexGrid grid;
-    std::vector<PixelSum> sums = film.make_buffer();
-    std::vector<double> splat_sums = film.splat_buffer();
-    const int64_t n_chunks = (n_light + kLightChunk - 1) / kLightChunk;
-    const int64_t slab = std::max<int64_t>(16, 8 * threads);
-    std::vector<std::vector<Splat>> chunk_splats(static_cast<size_t>(slab));
-    std::vector<uint64_t> chunk_nonfinite(static_cast<size_t>(slab), 0);
-    uint64_t nonfinite = 0;
-
-    RenderStats stats;
-    const auto t0 = Clock::now();
-    const double cpu0 = process_cpu_seconds();
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
-    Progress progress(opt.progress, uint64_t(iterations) * uint64_t(n_light + n_pixels));
-    const Filter& filter = *scene.filter;
-
-    int done = 0;
-    while (done < iterations) {
-        const double iter_t0 = elapsed();
-        const int iter = done;
+    /// Starts iteration `iter` (from 0): its radius, wavelengths and the estimator's settings.
+    void start(int iter) {
+        m_iter = iter;
         // r_i = r_1 i^((alpha - 1) / 2), i from 1 (Knaus and Zwicker 2011; Georgiev et al.
         // 2012, sec. 5).
-        const Float radius = Float(double(r1) * std::pow(double(iter + 1), (double(vp.alpha) - 1) / 2));
-        const SampledWavelengths lambda =
-            film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
-        vcm.start_iteration(radius, n_light, lambda);
+        radius = Float(double(r1) *
+                       std::pow(double(iter + 1), (double(m_scene.integrator.vcm.alpha) - 1) / 2));
+        lambda = m_film.sample_wavelengths(
+            pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
+        m_vcm.start_iteration(radius, n_light, lambda);
+    }
 
-        // ---- light pass, in slabs of chunks whose splats are added in chunk order ----------
+    /// The light pass, in slabs of chunks whose splats are given to `splat` (sensor values at
+    /// a film position) in chunk order, then the grid of the stored surface vertices.
+    template <typename SplatFn>
+    void light_pass(Progress* progress, uint64_t& nonfinite, SplatFn&& splat) {
+        const int64_t n_chunks = (n_light + kLightChunk - 1) / kLightChunk;
+        const int64_t slab = std::max<int64_t>(16, 8 * m_threads);
+        chunk_splats.resize(static_cast<size_t>(slab));
+        chunk_nonfinite.assign(static_cast<size_t>(slab), 0);
+        const int iter = m_iter;
         for (int64_t c0 = 0; c0 < n_chunks; c0 += slab) {
             const int64_t c1 = std::min(n_chunks, c0 + slab);
-            arena.execute([&] {
+            m_arena.execute([&] {
                 tbb::parallel_for(
                     tbb::blocked_range<int64_t>(c0, c1, 1),
                     [&](const tbb::blocked_range<int64_t>& r) {
-                        ThreadState& ts = states.local();
+                        ThreadState& ts = states->local();
                         for (int64_t c = r.begin(); c < r.end(); ++c) {
                             std::vector<Splat>& out = chunk_splats[size_t(c - c0)];
                             uint64_t& bad = chunk_nonfinite[size_t(c - c0)];
@@ -705,67 +894,183 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
                             const int64_t k1 = std::min(n_light, k0 + kLightChunk);
                             for (int64_t k = k0; k < k1; ++k) {
                                 ts.light_sampler->start_pixel_sample(Vec2i(iter, -1), int(k));
-                                vcm.light_path(*ts.light_sampler, ts.counters,
-                                               vertices.data() + size_t(k) * size_t(stride),
-                                               counts[size_t(k)], out, bad);
+                                m_vcm.light_path(*ts.light_sampler, ts.counters,
+                                                 vertices.data() + size_t(k) * size_t(stride),
+                                                 counts[size_t(k)], out, bad);
                             }
-                            progress.add(uint64_t(k1 - k0));
+                            if (progress) progress->add(uint64_t(k1 - k0));
                         }
                     },
                     tbb::simple_partitioner());
             });
             for (int64_t c = c0; c < c1; ++c) {
                 nonfinite += chunk_nonfinite[size_t(c - c0)];
-                for (const Splat& s : chunk_splats[size_t(c - c0)])
-                    film.add_splat(splat_sums, s.p, s.xyz, filter);
+                for (const Splat& s : chunk_splats[size_t(c - c0)]) splat(s);
             }
         }
-
-        // ---- the light vertices' grid ----------------------------------------------------------
+        // The light vertices' grid.
         stored.clear();
-        if (vp.merge)
+        if (m_scene.integrator.vcm.merge)
             for (int64_t k = 0; k < n_light; ++k)
-                for (int j = 0; j < counts[size_t(k)]; ++j)
-                    stored.push_back(uint32_t(size_t(k) * size_t(stride) + size_t(j)));
-        grid.build(vertices, stored, radius);
-
-        // ---- camera pass -------------------------------------------------------------------------
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& r) {
-                ThreadState& ts = states.local();
-                Sampler& sampler = *ts.cam_sampler;
-                for (int yy = r.begin(); yy < r.end(); ++yy) {
-                    for (int xx = 0; xx < w; ++xx) {
-                        const Vec2i pixel(fp.x0 + xx, fp.y0 + yy);
-                        // The light path this camera path connects to.
-                        const size_t k = (size_t(yy) * size_t(w) + size_t(xx)) % size_t(n_light);
-                        sampler.start_pixel_sample(pixel, iter);
-                        const FilterSample fs = filter.sample(sampler.get_pixel_2d());
-                        const Point2 u_lens = sampler.get_2d();
-                        const Point2 p_film(Float(pixel.x) + 0.5f + fs.offset.x,
-                                            Float(pixel.y) + 0.5f + fs.offset.y);
-                        const Ray ray = scene.camera->generate_ray(
-                            p_film, scene.camera->uses_lens_sample() ? u_lens : Point2(0.5f, 0.5f));
-                        SampledWavelengths lw = lambda;
-                        const SampledSpectrum L = vcm.camera_path(
-                            ray, sampler, ts.counters, vertices.data() + k * size_t(stride),
-                            counts[k], vertices, grid, lw);
-                        std::array<double, 3> xyz{0, 0, 0};
-                        bool finite = !L.has_nonfinite();
-                        if (finite) {
-                            xyz = film.to_sensor(L, lw);
-                            finite = finite3(xyz);
-                        }
-                        if (!finite) {
-                            ++ts.nonfinite;
-                            xyz = {0, 0, 0};
-                        }
-                        film.add(sums, pixel.x, pixel.y, xyz, fs.weight);
-                    }
+                for (int j = 0; j < counts[size_t(k)]; ++j) {
+                    const size_t i = size_t(k) * size_t(stride) + size_t(j);
+                    if (!vertices[i].in_medium) stored.push_back(uint32_t(i));  // surfaces only
                 }
-                progress.add(uint64_t(r.size()) * uint64_t(w));
+        grid.build(vertices, stored, radius);
+    }
+
+    /// The camera sample of the crop window's pixel (xx, yy) in the current iteration.
+    PixelSample camera_sample(ThreadState& ts, int xx, int yy) const {
+        const Filter& filter = *m_scene.filter;
+        Sampler& sampler = *ts.cam_sampler;
+        const Vec2i pixel(m_fp.x0 + xx, m_fp.y0 + yy);
+        // The light path this camera path connects to.
+        const size_t k = (size_t(yy) * size_t(w) + size_t(xx)) % size_t(n_light);
+        sampler.start_pixel_sample(pixel, m_iter);
+        const FilterSample fs = filter.sample(sampler.get_pixel_2d());
+        const Point2 u_lens = sampler.get_2d();
+        const Point2 p_film(Float(pixel.x) + 0.5f + fs.offset.x, Float(pixel.y) + 0.5f + fs.offset.y);
+        const Ray ray = m_scene.camera->generate_ray(
+            p_film, m_scene.camera->uses_lens_sample() ? u_lens : Point2(0.5f, 0.5f));
+        SampledWavelengths lw = lambda;
+        const SampledSpectrum L = m_vcm.camera_path(ray, sampler, ts.counters,
+                                                    vertices.data() + k * size_t(stride),
+                                                    counts[k], vertices, grid, lw);
+        PixelSample out;
+        out.weight = fs.weight;
+        bool finite = !L.has_nonfinite();
+        if (finite) {
+            out.xyz = m_film.to_sensor(L, lw);
+            finite = finite3(out.xyz);
+        }
+        if (!finite) {
+            ++ts.nonfinite;
+            out.xyz = {0, 0, 0};
+        }
+        return out;
+    }
+
+    int iterations() const { return m_iterations; }
+
+    int w = 0, h = 0;
+    int64_t n_pixels = 0, n_light = 0;
+    int stride = 1;
+    uint64_t cam_seed = 0;
+    Float r1 = 1e-3f, radius = 1e-3f;
+    SampledWavelengths lambda;
+    std::unique_ptr<tbb::enumerable_thread_specific<ThreadState>> states;
+
+private:
+    const Scene& m_scene;
+    const Film& m_film;
+    const FilmParams& m_fp;
+    int m_iterations;
+    int m_threads;
+    tbb::task_arena m_arena;
+    BidirContext m_ctx;
+    Vcm m_vcm;
+    int m_iter = 0;
+    std::vector<LightVertex> vertices;
+    std::vector<uint8_t> counts;
+    std::vector<uint32_t> stored;
+    VertexGrid grid;
+    std::vector<std::vector<Splat>> chunk_splats;
+    std::vector<uint64_t> chunk_nonfinite;
+};
+
+/// The header of a distributed camera pass: the render's seed and iteration count, and the
+/// iteration.
+struct BandHeader {
+    uint64_t seed;
+    int32_t iterations, iter;
+};
+
+}  // namespace
+
+RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt) {
+    const char* kName = "Integrator \"vcm\"";
+    check_bidir_scene(scene, "vcm");
+    if (film.has_aux()) throw Error(fmt::format("{}: only the \"rgb\" film is supported yet", kName));
+    if (opt.checkpoint || opt.resume)
+        throw Error(fmt::format("{}: checkpoints are not supported yet", kName));
+    WorkCoordinator* const coord =
+        opt.distribute && opt.distribute->workers() > 0 ? opt.distribute : nullptr;
+    const int iterations = render_samples_per_pixel(scene, opt);
+    const int threads = opt.threads > 0 ? opt.threads : int(std::thread::hardware_concurrency());
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    VcmRun run(scene, film, opt.seed, iterations, threads);
+    tbb::task_arena& arena = run.arena();
+    const FilmParams& fp = film.params();
+    const int w = run.w, h = run.h;
+
+    std::vector<PixelSum> sums = film.make_buffer();
+    std::vector<double> splat_sums = film.splat_buffer();
+    uint64_t nonfinite = 0, remote_rays = 0, remote_nonfinite = 0;
+
+    RenderStats stats;
+    const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    Progress progress(opt.progress, uint64_t(iterations) * uint64_t(run.n_light + run.n_pixels));
+    const Filter& filter = *scene.filter;
+    auto camera_rows = [&](int y0, int y1) {
+        ThreadState& ts = run.states->local();
+        for (int yy = y0; yy < y1; ++yy)
+            for (int xx = 0; xx < w; ++xx) {
+                const PixelSample ps = run.camera_sample(ts, xx, yy);
+                film.add(sums, fp.x0 + xx, fp.y0 + yy, ps.xyz, ps.weight);
+            }
+        progress.add(uint64_t(y1 - y0) * uint64_t(w));
+    };
+
+    int done = 0;
+    while (done < iterations) {
+        const double iter_t0 = elapsed();
+        const int iter = done;
+        run.start(iter);
+        // ---- light pass (every process traces it; this one adds the splats) ---------------
+        run.light_pass(&progress, nonfinite,
+                       [&](const Splat& s) { film.add_splat(splat_sums, s.p, s.xyz, filter); });
+        // ---- camera pass -------------------------------------------------------------------
+        if (!coord) {
+            arena.execute([&] {
+                tbb::parallel_for(tbb::blocked_range<int>(0, h, 1),
+                                  [&](const tbb::blocked_range<int>& r) {
+                                      camera_rows(r.begin(), r.end());
+                                  });
             });
-        });
+        } else {
+            // Distributed: bands of rows are the items; a worker returns each pixel's
+            // sensor values and filter weight, which are added here as this process adds its
+            // own (a pixel has one sample an iteration: the order of pixels is immaterial).
+            WorkCoordinator::Phase ph;
+            ph.kind = kVcmItems;
+            ByteWriter hw(ph.header);
+            hw.put(BandHeader{opt.seed, int32_t(iterations), int32_t(iter)});
+            ph.items = size_t((h + kBandRows - 1) / kBandRows);
+            ph.input = [](size_t, ByteWriter&) {};
+            ph.output = [&](size_t i, ByteReader& br) {
+                const int y0 = int(i) * kBandRows, y1 = std::min(h, y0 + kBandRows);
+                for (int yy = y0; yy < y1; ++yy)
+                    for (int xx = 0; xx < w; ++xx) {
+                        const auto xyz = br.get<std::array<double, 3>>();
+                        const Float weight = br.get<Float>();
+                        film.add(sums, fp.x0 + xx, fp.y0 + yy, xyz, weight);
+                    }
+                remote_rays += br.get<uint64_t>();
+                remote_nonfinite += br.get<uint64_t>();
+                progress.add(uint64_t(y1 - y0) * uint64_t(w));
+            };
+            ph.local = [&](const std::function<std::optional<size_t>()>& claim,
+                           const std::function<void(size_t)>&) {
+                run_local_share(arena, threads, claim, [] { return false; }, [&](size_t i) {
+                    const int y0 = int(i) * kBandRows;
+                    camera_rows(y0, std::min(h, y0 + kBandRows));
+                });
+            };
+            ph.abandon = [] { return false; };  // an iteration always completes
+            coord->run(ph);
+        }
         ++done;
 
         if (stop_before_next_iteration(opt, done, iterations, elapsed(), elapsed() - iter_t0,
@@ -781,14 +1086,82 @@ RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& opt)
     stats.spp = done;
     stats.wall_seconds = elapsed();
     stats.cpu_seconds = process_cpu_seconds() - cpu0;
-    stats.camera_paths = uint64_t(done) * uint64_t(n_pixels);
-    stats.nonfinite = nonfinite;
-    for (const ThreadState& t : states) {
+    stats.camera_paths = uint64_t(done) * uint64_t(run.n_pixels);
+    stats.nonfinite = nonfinite + remote_nonfinite;
+    stats.rays = remote_rays;
+    for (const ThreadState& t : *run.states) {
         stats.rays += t.counters.rays;
         stats.nonfinite += t.nonfinite;
     }
     stats.peak_rss_bytes = peak_rss_bytes();
     return stats;
+}
+
+JobHandler vcm_job_handler(const Scene& scene, int threads) {
+    // A worker's state, made on the first job of a render (seed and iteration count) and kept
+    // while they stay: the iteration's light paths and grid, traced once per iteration.
+    struct Worker {
+        Film film;
+        int threads;
+        std::unique_ptr<VcmRun> run;
+        BandHeader key{0, -1, -1};
+        int iter = -1;
+        Worker(const Scene& s, int n)
+            : film(s.film), threads(n > 0 ? n : int(std::thread::hardware_concurrency())) {}
+    };
+    auto wk = std::make_shared<Worker>(scene, threads);
+    return [&scene, wk](ByteReader& header, size_t count, ByteReader& inputs, ByteWriter& outputs) {
+        Worker& W = *wk;
+        const BandHeader hd = header.get<BandHeader>();
+        if (scene.integrator.type != "vcm")
+            throw Error(fmt::format("distributed: a vcm job, and the scene's integrator is \"{}\"",
+                                    scene.integrator.type));
+        if (hd.iterations <= 0 || hd.iter < 0 || hd.iter >= hd.iterations)
+            throw Error(fmt::format("distributed: vcm iteration {} of {}", hd.iter, hd.iterations));
+        if (!W.run || W.key.seed != hd.seed || W.key.iterations != hd.iterations) {
+            W.run = std::make_unique<VcmRun>(scene, W.film, hd.seed, hd.iterations, W.threads);
+            W.key = hd;
+            W.iter = -1;
+        }
+        VcmRun& run = *W.run;
+        if (W.iter != hd.iter) {
+            run.start(hd.iter);
+            uint64_t ignored = 0;
+            run.light_pass(nullptr, ignored, [](const Splat&) {});
+            W.iter = hd.iter;
+        }
+        std::vector<size_t> items(count);
+        for (size_t j = 0; j < count; ++j) {
+            const uint64_t item = inputs.get<uint64_t>();
+            if (item >= uint64_t((run.h + kBandRows - 1) / kBandRows))
+                throw Error("distributed: a vcm band outside the film");
+            items[j] = size_t(item);
+        }
+        std::vector<std::vector<PixelSample>> out(count);
+        std::vector<PathCounters> counters(count);
+        std::vector<uint64_t> bad(count, 0);
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, size_t(W.threads));
+        run.arena().execute([&] {
+            tbb::parallel_for(size_t(0), count, [&](size_t j) {
+                ThreadState& ts = run.states->local();
+                const uint64_t rays0 = ts.counters.rays, bad0 = ts.nonfinite;
+                const int y0 = int(items[j]) * kBandRows, y1 = std::min(run.h, y0 + kBandRows);
+                for (int yy = y0; yy < y1; ++yy)
+                    for (int xx = 0; xx < run.w; ++xx) out[j].push_back(run.camera_sample(ts, xx, yy));
+                counters[j].rays = ts.counters.rays - rays0;
+                bad[j] = ts.nonfinite - bad0;
+            }, tbb::simple_partitioner());
+        });
+        for (size_t j = 0; j < count; ++j) {
+            outputs.put(uint64_t(items[j]));
+            for (const PixelSample& ps : out[j]) {
+                outputs.put(ps.xyz);
+                outputs.put(ps.weight);
+            }
+            outputs.put(uint64_t(counters[j].rays));
+            outputs.put(bad[j]);
+        }
+    };
 }
 
 }  // namespace sr

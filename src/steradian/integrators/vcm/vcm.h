@@ -20,6 +20,11 @@
 /// With merging switched off the estimator is a bidirectional path tracer; with connections
 /// off, photon mapping combined with camera paths that hit emitters.
 ///
+/// Media (docs/vcm.md): both subpaths scatter in media by delta tracking (medium vertices,
+/// the phase function as their BSDF), connections carry the ratio-tracking transmittance of
+/// their segment; medium vertices are connected but not merged (merging is on surfaces),
+/// the MIS quantities leaving out the merging terms of medium vertices.
+///
 /// Determinism: light path k of iteration i and camera path of pixel k are pure functions of
 /// (i, k, seed); light vertices go into fixed slots, the grid lists them in index order, each
 /// pixel's merges are added in that order, and the light pass's splats are added in path
@@ -32,8 +37,11 @@ struct RenderOptions;
 struct RenderStats;
 
 /// Renders `scene` (Integrator "vcm") into `film`. Throws sr::Error for what vcm does not
-/// support: what the bidirectional integrators refuse (media, cameras without importance,
-/// environment maps with a portal), films other than "rgb", checkpoints, several processes.
+/// support: what the bidirectional integrators refuse (emissive media, subsurface materials,
+/// cameras without importance, environment maps with a portal), films other than "rgb",
+/// checkpoints. With opt.distribute (steradian-mpi, several processes) every process traces
+/// each iteration's light paths and the camera pass is shared in bands of film rows
+/// (vcm_job_handler, distributed.h; docs/distributed.md): the same image.
 RenderStats render_vcm(const Scene& scene, Film& film, const RenderOptions& options);
 
 }  // namespace sr

@@ -111,11 +111,13 @@ TEST(VcmRender, RefusesWhatItCannotRender) {
     const Scene ortho = build(scene_with("Integrator \"vcm\"", "Camera \"orthographic\"\n"));
     Film f2(ortho.film);
     EXPECT_NE(render_error_of(ortho, f2).find("perspective"), std::string::npos);
-    // Participating media.
+    // An emissive participating medium (other media are traced: tests/analytic/
+    // bidir_media_test.cpp).
     const std::string media =
         "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
         "Integrator \"vcm\"\n"
-        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb Le\" [ 1 1 1 ] "
+        "\"float Lescale\" [ 1 ]\n"
         "MediumInterface \"\" \"fog\"\n"
         "Camera \"perspective\"\n"
         "WorldBegin\n"
@@ -128,7 +130,7 @@ TEST(VcmRender, RefusesWhatItCannotRender) {
     } catch (const std::exception& ex) {
         e = ex.what();
     }
-    EXPECT_NE(e.find("media"), std::string::npos) << e;
+    EXPECT_NE(e.find("emissive participating media"), std::string::npos) << e;
 }
 
 // A time budget ends the render after a whole iteration (the first always completes), and the

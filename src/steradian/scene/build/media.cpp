@@ -318,10 +318,10 @@ void Builder::build_media() {
 
 void Builder::use_volumetric_kernel(const std::string& what, const std::string& pbrt_path) {
     const bool bidir = m_s.integrator.type == "bdpt" || m_s.integrator.type == "lightpath" ||
-                       m_s.integrator.type == "mlt";
+                       m_s.integrator.type == "mlt" || m_s.integrator.type == "vcm";
     if (bidir && what != "participating media") {
         // The bidirectional kernels trace media themselves (integrators/bdpt/, as pbrt-v4's
-        // bdpt does), but not a subsurface material's interior.
+        // bdpt does, and integrators/vcm/), but not a subsurface material's interior.
         recorded([&] {
             throw_unsupported(m_d.integrator.loc,
                               "Integrator \"{}\": the scene has {}, which the bidirectional "
