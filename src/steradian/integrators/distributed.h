@@ -170,6 +170,8 @@ void serve_work(Messenger& m, const std::vector<JobHandler>& handlers, int capac
 /// Phase kinds.
 inline constexpr uint8_t kRenderTiles = 0;
 inline constexpr uint8_t kMeasureItems = 1;
+inline constexpr uint8_t kMltItems = 2;   ///< Integrator "mlt": bootstrap blocks, chains
+inline constexpr uint8_t kSppmItems = 3;  ///< Integrator "sppm": photon chunks
 
 class Scene;
 class RadiositySolution;
@@ -182,6 +184,11 @@ JobHandler render_job_handler(const Scene& scene, int threads,
                               const RadiositySolution* radiosity = nullptr);
 JobHandler measure_job_handler(const Scene& scene, int threads,
                                const RadiositySolution* radiosity = nullptr);
+
+/// The worker handlers of Integrator "mlt" (its bootstrap blocks and chains; mlt.cpp) and
+/// of Integrator "sppm" (its photon chunks; sppm.cpp) for `scene`, with `threads` threads.
+JobHandler mlt_job_handler(const Scene& scene, int threads);
+JobHandler sppm_job_handler(const Scene& scene, int threads);
 
 /// A test hook (docs/distributed.md, "A rank that dies"): when the environment variable
 /// STERADIAN_TEST_ABORT_AFTER_JOBS is N > 0, a worker aborts (SIGABRT) after N jobs.
