@@ -4,6 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -452,6 +454,19 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
         std::vector<std::vector<Deposit>> chunk_deposits;
         std::vector<uint8_t> remote_chunk;
         std::vector<uint64_t> chunk_bad;
+        std::vector<size_t> arrived;  // workers' chunks not yet gathered
+        std::mutex arrived_mutex;
+        // A worker's chunk: its photons' hits gathered here, in photon order (once).
+        auto gather_remote = [&](size_t c) {
+            if (!remote_chunk[c]) return;
+            SampledWavelengths terminated = pass_lambda;
+            terminated.terminate_secondary();
+            for (const PhotonHit& hh : chunk_hits[c])
+                gather(hh.p, hh.wi, hh.beta, hh.terminated ? terminated : pass_lambda,
+                       chunk_deposits[c], chunk_bad[c]);
+            std::vector<PhotonHit>().swap(chunk_hits[c]);
+            remote_chunk[c] = 2;  // gathered
+        };
         if (coord) {
             chunk_hits.resize(n_chunks);
             chunk_deposits.resize(n_chunks);
@@ -483,6 +498,10 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                 }
                 stats.dist_splat_bytes += at - br.left();
                 remote_chunk[c] = 1;
+                {
+                    const std::lock_guard<std::mutex> lock(arrived_mutex);
+                    arrived.push_back(c);
+                }
                 const int64_t i0 = int64_t(c) * chunk_photons;
                 progress.add(uint64_t(std::min<int64_t>(photons, i0 + chunk_photons) - i0));
             };
@@ -490,10 +509,34 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                            const std::function<void(size_t)>&) {
                 camera_pass();
                 grid.build(pixels);
-                run_local_share(arena, threads, claim, [] { return false; }, [&](size_t c) {
-                    trace_chunk(c, chunk_deposits[c], chunk_bad[c]);
-                    const int64_t i0 = int64_t(c) * chunk_photons;
-                    progress.add(uint64_t(std::min<int64_t>(photons, i0 + chunk_photons) - i0));
+                // The threads gather the workers' chunks that have come in before they trace
+                // a chunk of their own, so that few are left to gather when the phase ends
+                // (the workers idle then).
+                auto next_arrived = [&]() -> std::optional<size_t> {
+                    const std::lock_guard<std::mutex> lock(arrived_mutex);
+                    if (arrived.empty()) return std::nullopt;
+                    const size_t c = arrived.back();
+                    arrived.pop_back();
+                    return c;
+                };
+                arena.execute([&] {
+                    tbb::parallel_for(
+                        0, threads,
+                        [&](int) {
+                            for (;;) {
+                                if (const std::optional<size_t> c = next_arrived()) {
+                                    gather_remote(*c);
+                                    continue;
+                                }
+                                const std::optional<size_t> c = claim();
+                                if (!c) return;
+                                trace_chunk(*c, chunk_deposits[*c], chunk_bad[*c]);
+                                const int64_t i0 = int64_t(*c) * chunk_photons;
+                                progress.add(uint64_t(
+                                    std::min<int64_t>(photons, i0 + chunk_photons) - i0));
+                            }
+                        },
+                        tbb::simple_partitioner());
                 });
             };
             coord->run(ph);
@@ -507,21 +550,10 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                     [&](const tbb::blocked_range<size_t>& r) {
                         for (size_t c = r.begin(); c < r.end(); ++c) {
                             if (coord) {
-                                // A worker's chunk: its photons' records gathered here, in
-                                // photon order (this process's chunks are gathered already).
+                                // Distributed: the workers' chunks not gathered yet are now
+                                // (this process's chunks are gathered already).
+                                if (remote_chunk[c] == 1) gather_remote(c);
                                 std::vector<Deposit>& out = chunk_deposits[c];
-                                if (remote_chunk[c]) {
-                                    const SampledWavelengths terminated = [&] {
-                                        SampledWavelengths l = pass_lambda;
-                                        l.terminate_secondary();
-                                        return l;
-                                    }();
-                                    for (const PhotonHit& hh : chunk_hits[c])
-                                        gather(hh.p, hh.wi, hh.beta,
-                                               hh.terminated ? terminated : pass_lambda, out,
-                                               chunk_bad[c]);
-                                    std::vector<PhotonHit>().swap(chunk_hits[c]);
-                                }
                                 deposits[c - c0].swap(out);
                                 chunk_nonfinite[c - c0] = chunk_bad[c];
                                 std::vector<Deposit>().swap(out);
@@ -540,7 +572,7 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
             // The ordered reduction: chunk by chunk, each chunk's deposits in photon order.
             for (size_t c = c0; c < c1; ++c) {
                 nonfinite_photons += chunk_nonfinite[c - c0];
-                if (coord && remote_chunk[c]) stats.dist_splats += deposits[c - c0].size();
+                if (coord && remote_chunk[c] != 0) stats.dist_splats += deposits[c - c0].size();
                 for (const Deposit& d : deposits[c - c0]) {
                     Pixel& px = pixels[d.pixel];
                     for (int k = 0; k < 3; ++k) px.phi[k] += double(d.xyz[k]);
