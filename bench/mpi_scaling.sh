@@ -49,5 +49,5 @@ for n in $ranks; do
   speedup=$(echo "scale=2; $base / $wall" | bc)
   eff=$(echo "scale=0; 100 * $base / $wall / $n" | bc)
   printf '%-22s %10.2f %10.2f %10.2f %8s %9s%% %s\n' "mpirun -n $n" "$(echo "$t1 - $t0" | bc)" "$wall" "$cpu" "$speedup" "$eff" "$same"
-  grep -h '^  splats' "$tmp/mpi$n.txt" || true
+  grep -h "^  splats\|^  processes" "$tmp/mpi$n.txt" || true
 done

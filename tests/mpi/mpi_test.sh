@@ -212,9 +212,10 @@ check "... and writes no image" test ! -e "$tmp/dead.pfm"
 
 # Integrator "mlt": the bootstrap's blocks and then, round by round, the chains (their
 # states travel with them) are shared; each chain's splats are added in chain order, as one
-# process adds them. 48 chains (more than the 32 whose splats the coordinator keeps apart at
-# once with one thread a process), 3,000 bootstrap samples (12 blocks), 4 rounds.
-sed 's/^WorldBegin/Integrator "mlt" "integer bootstrapsamples" [ 500 ] "integer chains" [ 48 ]\nWorldBegin/' \
+# process adds them. 400 chains in 50 blocks of 8 (more than the 32 blocks whose splats the
+# coordinator keeps apart at once with one thread a process; blocks of 6 with two threads),
+# 3,000 bootstrap samples (12 blocks), 4 rounds.
+sed 's/^WorldBegin/Integrator "mlt" "integer bootstrapsamples" [ 500 ] "integer chains" [ 400 ]\nWorldBegin/' \
   "$tmp/scene.pbrt" > "$tmp/mlt.pbrt"
 "$one" render "$tmp/mlt.pbrt" -o "$tmp/mlt1.pfm" --spp 4 --threads 1 --quiet
 "$one" render "$tmp/mlt.pbrt" -o "$tmp/mlt1t2.pfm" --spp 4 --threads 2 --quiet

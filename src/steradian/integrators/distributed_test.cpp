@@ -159,14 +159,15 @@ TEST(Distributed, SplattingIntegratorsEqualOneProcessBitForBit) {
 }
 
 TEST(Distributed, MetropolisEqualsOneProcessBitForBit) {
-    // The bootstrap's blocks (12 of 256 samples) and the chains (40, more than the 32 whose
-    // splats the coordinator keeps apart with one thread) travel between processes; the
-    // chains' splats are added in chain order: the same splat sums. 3 rounds.
+    // The bootstrap's blocks (12 of 256 samples) and the chains travel between processes,
+    // in blocks of 8 (1 worker: 38 items, more than the 32 the coordinator keeps apart with
+    // one thread) or 6 (2 workers) chains; the chains' splats are added in chain order: the
+    // same splat sums. 3 rounds.
     RenderOptions ro;
     ro.spp = 3;
     expect_same_render("rgb", ro,
                        R"(Integrator "mlt" "integer maxdepth" [ 4 ] "integer bootstrapsamples" [ 600 ]
-                          "integer chains" [ 40 ])");
+                          "integer chains" [ 300 ])");
 }
 
 TEST(Distributed, SppmEqualsOneProcessBitForBit) {

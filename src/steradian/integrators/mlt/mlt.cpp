@@ -344,6 +344,12 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
     std::vector<std::vector<Splat>> splats(coord ? size_t(n_chains) : chunk);
     std::vector<uint64_t> splat_nonfinite(splats.size(), 0);
     const Filter& filter = *scene.filter;
+    // Distributed: chains per item, so that a job is a few milliseconds of work (fewer
+    // messages), while a round keeps about 16 items per thread of all processes.
+    const int64_t chain_block =
+        coord ? std::clamp<int64_t>(
+                    n_chains / (16 * int64_t(threads) * (coord->workers() + 1)), 1, 8)
+              : 1;
     int done = 0;
     for (int64_t round = 0; round < mpp; ++round) {
         if (round > 0 && opt.stop && opt.stop->load()) {
@@ -358,10 +364,10 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
             return chain_share(i, n_chains, round * per_round, (round + 1) * per_round);
         };
         if (coord) {
-            // Distributed: the chains are the items, each handed out with its state and
-            // returned with it and its splats; the splats are added chain by chain in chain
-            // order (Phase::reduce), every pixel receiving the additions one process makes, in
-            // the same order.
+            // Distributed: blocks of consecutive chains are the items, each chain handed out
+            // with its state and returned with it and its splats; the splats are added chain
+            // by chain in chain order (Phase::reduce), every pixel receiving the additions one
+            // process makes, in the same order (which the block size does not change).
             WorkCoordinator::Phase ph;
             ph.kind = kMltItems;
             ByteWriter hw(ph.header);
@@ -370,37 +376,56 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
             hw.put(round);
             hw.put(per_round);
             hw.put(n_chains);
-            ph.items = size_t(n_chains);
+            hw.put(chain_block);
+            auto chains_of = [&](size_t k) {
+                const int64_t c0 = int64_t(k) * chain_block;
+                return std::pair<int64_t, int64_t>(c0, std::min(n_chains, c0 + chain_block));
+            };
+            ph.items = size_t((n_chains + chain_block - 1) / chain_block);
             ph.window = size_t(std::max(32, 6 * threads * (coord->workers() + 1)));
-            ph.input = [&](size_t i, ByteWriter& bw) { put_chain(bw, chains[i]); };
-            ph.output = [&](size_t i, ByteReader& br) {
-                get_chain(br, chains[i], max_depth);
+            ph.input = [&](size_t k, ByteWriter& bw) {
+                const auto [c0, c1] = chains_of(k);
+                for (int64_t i = c0; i < c1; ++i) put_chain(bw, chains[size_t(i)]);
+            };
+            ph.output = [&](size_t k, ByteReader& br) {
+                const auto [c0, c1] = chains_of(k);
                 remote.paths += br.get<uint64_t>();
                 remote.rays += br.get<uint64_t>();
                 remote.nonfinite += br.get<uint64_t>();
-                const size_t at = br.left();
-                get_splats(br, splats[i]);
-                stats.dist_splat_bytes += at - br.left();
-                progress.add(uint64_t(share(int64_t(i))));
+                for (int64_t i = c0; i < c1; ++i) {
+                    get_chain(br, chains[size_t(i)], max_depth);
+                    const size_t at = br.left();
+                    get_splats(br, splats[size_t(i)]);
+                    stats.dist_splat_bytes += at - br.left();
+                    progress.add(uint64_t(share(i)));
+                }
             };
             ph.local = [&](const std::function<std::optional<size_t>()>& claim,
-                           const std::function<void(size_t)>& chain_done) {
-                run_local_share(arena, threads, claim, [] { return false; }, [&](size_t i) {
-                    splats[i].clear();
-                    splat_nonfinite[i] = 0;
-                    setup.run_chain(chains[i], share(int64_t(i)), states.local(), splats[i],
-                                    splat_nonfinite[i]);
-                    chain_done(i);
-                    progress.add(uint64_t(share(int64_t(i))));
+                           const std::function<void(size_t)>& block_done) {
+                run_local_share(arena, threads, claim, [] { return false; }, [&](size_t k) {
+                    const auto [c0, c1] = chains_of(k);
+                    for (int64_t i = c0; i < c1; ++i) {
+                        const size_t ci = size_t(i);
+                        splats[ci].clear();
+                        splat_nonfinite[ci] = 0;
+                        setup.run_chain(chains[ci], share(i), states.local(), splats[ci],
+                                        splat_nonfinite[ci]);
+                        progress.add(uint64_t(share(i)));
+                    }
+                    block_done(k);
                 });
             };
-            ph.reduce = [&](size_t i) {
+            ph.reduce = [&](size_t k) {
                 const double r0 = thread_cpu_seconds();
-                remote.nonfinite += splat_nonfinite[i];
-                splat_nonfinite[i] = 0;
-                for (const Splat& sp : splats[i]) film.add_splat(sums, sp.p, sp.xyz, filter);
-                stats.dist_splats += splats[i].size();
-                std::vector<Splat>().swap(splats[i]);
+                const auto [c0, c1] = chains_of(k);
+                for (int64_t i = c0; i < c1; ++i) {
+                    const size_t ci = size_t(i);
+                    remote.nonfinite += splat_nonfinite[ci];
+                    splat_nonfinite[ci] = 0;
+                    for (const Splat& sp : splats[ci]) film.add_splat(sums, sp.p, sp.xyz, filter);
+                    stats.dist_splats += splats[ci].size();
+                    std::vector<Splat>().swap(splats[ci]);
+                }
                 stats.dist_splat_seconds += thread_cpu_seconds() - r0;
             };
             coord->run(ph);
@@ -526,33 +551,44 @@ JobHandler mlt_job_handler(const Scene& scene, int threads) {
         const int64_t round = header.get<int64_t>();
         const int64_t per_round = header.get<int64_t>();
         const int64_t n_chains = header.get<int64_t>();
-        if (n_chains != setup.mp.chains || round < 0 || per_round < 1)
+        const int64_t block = header.get<int64_t>();
+        if (n_chains != setup.mp.chains || round < 0 || per_round < 1 || block < 1)
             throw Error("distributed: a round of other chains than the scene's");
-        std::vector<Chain> chains(count, Chain{MltSampler(0, 0, kStreams, 0, 0), {}, 0, {}, {}});
-        std::vector<std::vector<Splat>> splats(count);
+        const uint64_t n_items = uint64_t((n_chains + block - 1) / block);
+        std::vector<std::vector<Chain>> chains(count);
+        std::vector<std::vector<std::vector<Splat>>> splats(count);
         std::vector<uint64_t> bad(count, 0);
         for (size_t j = 0; j < count; ++j) {
             items[j] = inputs.get<uint64_t>();
-            if (items[j] >= uint64_t(n_chains)) throw Error("distributed: a chain of none");
-            get_chain(inputs, chains[j], setup.max_depth);
+            if (items[j] >= n_items) throw Error("distributed: a block of no chains");
+            const int64_t c0 = int64_t(items[j]) * block, c1 = std::min(n_chains, c0 + block);
+            chains[j].resize(size_t(c1 - c0),
+                             Chain{MltSampler(0, 0, kStreams, 0, 0), {}, 0, {}, {}});
+            splats[j].resize(size_t(c1 - c0));
+            for (Chain& ch : chains[j]) get_chain(inputs, ch, setup.max_depth);
         }
         W.arena.execute([&] {
             tbb::parallel_for(size_t(0), count, [&](size_t j) {
                 MltThread& th = W.states.local();
                 const ItemCounts before = now(th);
-                const int64_t n = chain_share(int64_t(items[j]), n_chains, round * per_round,
-                                              (round + 1) * per_round);
-                setup.run_chain(chains[j], n, th, splats[j], bad[j]);
+                const int64_t c0 = int64_t(items[j]) * block;
+                for (size_t k = 0; k < chains[j].size(); ++k) {
+                    const int64_t n = chain_share(c0 + int64_t(k), n_chains, round * per_round,
+                                                  (round + 1) * per_round);
+                    setup.run_chain(chains[j][k], n, th, splats[j][k], bad[j]);
+                }
                 counts[j] = delta(before, now(th));
             }, tbb::simple_partitioner());
         });
         for (size_t j = 0; j < count; ++j) {
             outputs.put(items[j]);
-            put_chain(outputs, chains[j]);
             outputs.put(counts[j].paths);
             outputs.put(counts[j].rays);
             outputs.put(counts[j].nonfinite + bad[j]);
-            put_splats(outputs, splats[j]);
+            for (size_t k = 0; k < chains[j].size(); ++k) {
+                put_chain(outputs, chains[j][k]);
+                put_splats(outputs, splats[j][k]);
+            }
         }
     };
 }
