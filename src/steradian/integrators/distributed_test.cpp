@@ -159,7 +159,7 @@ TEST(Distributed, SplattingIntegratorsEqualOneProcessBitForBit) {
 }
 
 TEST(Distributed, MetropolisEqualsOneProcessBitForBit) {
-    // The bootstrap's blocks (12 of 256 samples) and the chains travel between processes,
+    // The bootstrap's blocks (3 of 1,024 samples) and the chains travel between processes,
     // in blocks of 8 (1 worker: 38 items, more than the 32 the coordinator keeps apart with
     // one thread) or 6 (2 workers) chains; the chains' splats are added in chain order: the
     // same splat sums. 3 rounds.

@@ -176,7 +176,7 @@ struct MltSetup {
 /// The stages of a distributed render (the header's first byte).
 enum : uint8_t { kStageBootstrap = 0, kStageRound = 1 };
 /// Bootstrap samples per distributed item.
-constexpr int64_t kBootBlock = 256;
+constexpr int64_t kBootBlock = 1024;
 
 /// A chain's state (all of it but the proposal, which every step overwrites) in a message,
 /// and back: the chain continues on the receiving process exactly as it would have here.
