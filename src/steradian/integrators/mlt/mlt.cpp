@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -415,20 +419,80 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
                     block_done(k);
                 });
             };
+            // The reduction: reduce() queues the blocks in chain order; `n_red` threads, each
+            // owning a band of rows, add every queued block's splats into their rows in that
+            // order (a pixel's terms keep their order; one process adds its chunks in bands
+            // too), and the last band to finish a block frees its splats. At most `window`
+            // blocks wait for their bands.
+            const int n_red = std::max(1, std::min(fp.height(), threads));
+            std::mutex qm;
+            std::condition_variable qcv;
+            std::vector<size_t> ready;
+            bool closing = false;
+            std::unique_ptr<std::atomic<int>[]> bands_left(new std::atomic<int>[ph.items]);
+            std::atomic<size_t> pending{0};
+            std::vector<double> red_cpu(size_t(n_red), 0);
+            std::vector<std::thread> reducers;
+            for (int band = 0; band < n_red; ++band)
+                reducers.emplace_back([&, band] {
+                    const double t0c = thread_cpu_seconds();
+                    const int r0 = fp.y0 + int(int64_t(band) * fp.height() / n_red);
+                    const int r1 = fp.y0 + int(int64_t(band + 1) * fp.height() / n_red);
+                    for (size_t next = 0;; ++next) {
+                        size_t k = 0;
+                        {
+                            std::unique_lock<std::mutex> lock(qm);
+                            qcv.wait(lock, [&] { return next < ready.size() || closing; });
+                            if (next >= ready.size()) break;
+                            k = ready[next];
+                        }
+                        const auto [c0, c1] = chains_of(k);
+                        for (int64_t i = c0; i < c1; ++i)
+                            for (const Splat& sp : splats[size_t(i)])
+                                film.add_splat(sums, sp.p, sp.xyz, filter, r0, r1);
+                        if (bands_left[k].fetch_sub(1, std::memory_order_acq_rel) == 1) {
+                            for (int64_t i = c0; i < c1; ++i)
+                                std::vector<Splat>().swap(splats[size_t(i)]);
+                            pending.fetch_sub(1, std::memory_order_release);
+                        }
+                    }
+                    red_cpu[size_t(band)] = thread_cpu_seconds() - t0c;
+                });
+            auto close_reducers = [&] {
+                {
+                    const std::lock_guard<std::mutex> lock(qm);
+                    closing = true;
+                }
+                qcv.notify_all();
+                for (std::thread& t : reducers) t.join();
+                reducers.clear();
+            };
             ph.reduce = [&](size_t k) {
-                const double r0 = thread_cpu_seconds();
                 const auto [c0, c1] = chains_of(k);
                 for (int64_t i = c0; i < c1; ++i) {
                     const size_t ci = size_t(i);
                     remote.nonfinite += splat_nonfinite[ci];
                     splat_nonfinite[ci] = 0;
-                    for (const Splat& sp : splats[ci]) film.add_splat(sums, sp.p, sp.xyz, filter);
                     stats.dist_splats += splats[ci].size();
-                    std::vector<Splat>().swap(splats[ci]);
                 }
-                stats.dist_splat_seconds += thread_cpu_seconds() - r0;
+                while (pending.load(std::memory_order_acquire) >= ph.window)
+                    std::this_thread::sleep_for(std::chrono::microseconds(200));
+                bands_left[k].store(n_red, std::memory_order_relaxed);
+                pending.fetch_add(1, std::memory_order_relaxed);
+                {
+                    const std::lock_guard<std::mutex> lock(qm);
+                    ready.push_back(k);
+                }
+                qcv.notify_all();
             };
-            coord->run(ph);
+            try {
+                coord->run(ph);
+            } catch (...) {
+                close_reducers();
+                throw;
+            }
+            close_reducers();
+            for (double c : red_cpu) stats.dist_splat_seconds += c;
             done = int(round) + 1;
             continue;
         }
