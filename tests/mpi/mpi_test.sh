@@ -212,9 +212,9 @@ check "... and writes no image" test ! -e "$tmp/dead.pfm"
 
 # Integrator "mlt": the bootstrap's blocks and then, round by round, the chains (their
 # states travel with them) are shared; each chain's splats are added in chain order, as one
-# process adds them. 400 chains in 50 blocks of 8 (more than the 32 blocks whose splats the
-# coordinator keeps apart at once with one thread a process; blocks of 6 with two threads),
-# 3,000 bootstrap samples (3 blocks of 1,024), 4 rounds.
+# process adds them, in bands of rows with two threads. 400 chains in blocks of 25 (2
+# processes), 16 (3) or 12 (2 of two threads), 3,000 bootstrap samples (3 blocks of 1,024),
+# 4 rounds.
 sed 's/^WorldBegin/Integrator "mlt" "integer bootstrapsamples" [ 500 ] "integer chains" [ 400 ]\nWorldBegin/' \
   "$tmp/scene.pbrt" > "$tmp/mlt.pbrt"
 "$one" render "$tmp/mlt.pbrt" -o "$tmp/mlt1.pfm" --spp 4 --threads 1 --quiet

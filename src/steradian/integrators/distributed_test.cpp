@@ -160,9 +160,8 @@ TEST(Distributed, SplattingIntegratorsEqualOneProcessBitForBit) {
 
 TEST(Distributed, MetropolisEqualsOneProcessBitForBit) {
     // The bootstrap's blocks (3 of 1,024 samples) and the chains travel between processes,
-    // in blocks of 8 (1 worker: 38 items, more than the 32 the coordinator keeps apart with
-    // one thread) or 6 (2 workers) chains; the chains' splats are added in chain order: the
-    // same splat sums. 3 rounds.
+    // in blocks of 18 (1 worker) or 12 (2 workers) chains; the chains' splats are added in
+    // chain order: the same splat sums, whatever the blocks. 3 rounds.
     RenderOptions ro;
     ro.spp = 3;
     expect_same_render("rgb", ro,

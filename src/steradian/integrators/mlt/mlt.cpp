@@ -348,11 +348,12 @@ RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt)
     std::vector<std::vector<Splat>> splats(coord ? size_t(n_chains) : chunk);
     std::vector<uint64_t> splat_nonfinite(splats.size(), 0);
     const Filter& filter = *scene.filter;
-    // Distributed: chains per item, so that a job is a few milliseconds of work (fewer
-    // messages), while a round keeps about 16 items per thread of all processes.
+    // Distributed: chains per item, so that a worker's job is tens of milliseconds of work
+    // (a busy coordinator answers a request late; fewer, larger messages), while a round
+    // keeps about 8 items per thread of all processes.
     const int64_t chain_block =
         coord ? std::clamp<int64_t>(
-                    n_chains / (16 * int64_t(threads) * (coord->workers() + 1)), 1, 8)
+                    n_chains / (8 * int64_t(threads) * (coord->workers() + 1)), 1, 64)
               : 1;
     int done = 0;
     for (int64_t round = 0; round < mpp; ++round) {

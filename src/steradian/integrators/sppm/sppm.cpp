@@ -393,15 +393,21 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                 progress.add(uint64_t(r.size()) * uint64_t(w));
             });
         }); };
-        int64_t chunk_photons = kPhotonChunk;
+        // Distributed, the photons are traced before the grid exists: chunks of 1,024 to
+        // 8,192 photons, about 16 per thread of all processes (a worker's job is then
+        // milliseconds of work at least: a busy coordinator answers a request late).
+        int64_t chunk_photons =
+            coord ? std::clamp<int64_t>(
+                        photons / (16 * int64_t(threads) * (coord->workers() + 1)),
+                        kPhotonChunk, 8 * kPhotonChunk)
+                  : kPhotonChunk;
         if (!coord) {
             // ---- the visible points' grid ----------------------------------------------------
             camera_pass();
             grid.build(pixels);
             // A photon deposits at most max_list() times at each of at most max_depth
             // surfaces: chunks of that many photons keep their deposit lists within
-            // kChunkDeposits. (Distributed, the photons are traced before the grid exists:
-            // chunks of kPhotonChunk.)
+            // kChunkDeposits.
             const uint64_t per_photon = uint64_t(std::max(1, max_depth)) *
                                         uint64_t(std::max<size_t>(1, grid.max_list()));
             chunk_photons = int64_t(
