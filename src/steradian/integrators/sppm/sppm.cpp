@@ -355,7 +355,8 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
             film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
 
         // ---- camera pass: each pixel's path to its visible point --------------------------
-        auto camera_pass = [&] { arena.execute([&] {
+        auto camera_pass = [&] {
+            arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& r) {
                 CameraThread& ct = cam_threads.local();
                 Sampler& sampler = *ct.sampler;
@@ -392,7 +393,8 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                 }
                 progress.add(uint64_t(r.size()) * uint64_t(w));
             });
-        }); };
+            });
+        };
         // Distributed, the photons are traced before the grid exists: chunks of 1,024 to
         // 8,192 photons, about 16 per thread of all processes (a worker's job is then
         // milliseconds of work at least: a busy coordinator answers a request late).
