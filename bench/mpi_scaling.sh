@@ -8,9 +8,12 @@
 # bit-identical to the one-process image. INTEGRATOR=bdpt (or lightpath) renders with that
 # integrator at MAXDEPTH (default 5) instead, and prints the splat reduction's figures
 # (splats added in tile order, the coordinator's seconds adding them, the bytes of splat
-# lists received from the other processes).
-# Usage: [SPP=32] [RANKS="1 2 3 4"] [INTEGRATOR=bdpt [MAXDEPTH=5]] [BUILD=build/release]
-#        bench/mpi_scaling.sh
+# lists received from the other processes). INTEGRATOR=mlt or sppm work too (SPP is then
+# the mutations per pixel, or the iterations; PARAMS adds parameters to the Integrator line,
+# e.g. PARAMS='"float radius" [ 4 ]'); their summary line "splats" counts mlt's splats, or
+# sppm's deposits from the workers' photons (and the bytes of their photon hits).
+# Usage: [SPP=32] [RANKS="1 2 3 4"] [INTEGRATOR=bdpt [MAXDEPTH=5] [PARAMS=...]]
+#        [BUILD=build/release] bench/mpi_scaling.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD:-build/release}
@@ -24,7 +27,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 scene=scenes/cornell-box.pbrt
 if [ -n "${INTEGRATOR:-}" ]; then
-  sed "s/^Integrator .*/Integrator \"$INTEGRATOR\" \"integer maxdepth\" [ ${MAXDEPTH:-5} ]/" "$scene" > "$tmp/scene.pbrt"
+  sed "s/^Integrator .*/Integrator \"$INTEGRATOR\" \"integer maxdepth\" [ ${MAXDEPTH:-5} ] ${PARAMS:-}/" "$scene" > "$tmp/scene.pbrt"
   scene=$tmp/scene.pbrt
 fi
 echo "cores: $(nproc); scene: scenes/cornell-box.pbrt (${INTEGRATOR:-path}) at $spp spp; one thread per process"
@@ -46,5 +49,5 @@ for n in $ranks; do
   speedup=$(echo "scale=2; $base / $wall" | bc)
   eff=$(echo "scale=0; 100 * $base / $wall / $n" | bc)
   printf '%-22s %10.2f %10.2f %10.2f %8s %9s%% %s\n' "mpirun -n $n" "$(echo "$t1 - $t0" | bc)" "$wall" "$cpu" "$speedup" "$eff" "$same"
-  grep -h '^  splats' "$tmp/mpi$n.txt" || true
+  grep -h "^  splats\|^  processes" "$tmp/mpi$n.txt" || true
 done

@@ -167,7 +167,8 @@ int start_distributed(const sr::Scene& scene, int threads,
     const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
     sr::serve_work(*g_mpi,
                    {sr::render_job_handler(scene, threads, radiosity),
-                    sr::measure_job_handler(scene, threads, radiosity), nullptr, nullptr,
+                    sr::measure_job_handler(scene, threads, radiosity),
+                    sr::mlt_job_handler(scene, threads), sr::sppm_job_handler(scene, threads),
                     sr::vcm_job_handler(scene, threads)},
                    2 * nthreads);
     return 0;
@@ -565,12 +566,6 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
     if (scene.integrator.type == "radiosity")
         radiosity =
             solve_radiosity_for(scene, a.threads, a.radiosity_mesh, a.quiet || is_worker());
-    // (Every process refuses alike, before any of them starts the distributed session.)
-    if (g_size > 1 && scene.integrator.type == "sppm")
-        throw sr::Error(fmt::format("{}: Integrator \"sppm\" does not run distributed: its photon "
-                                    "passes are not shared between processes; run it in one "
-                                    "process (docs/distributed.md)",
-                                    a.scene));
     if (const int status = start_distributed(scene, a.threads, radiosity.get()); status >= 0)
         return status;
     std::optional<sr::WorkCoordinator> coord = make_coordinator();
@@ -655,7 +650,7 @@ int run_render(RenderArgs a, const std::function<bool(const char*)>& given) {
         std::fprintf(stderr, "  NaN/Inf samples %llu discarded\n",
                      (unsigned long long)st.nonfinite);
         if (st.dist_splats > 0)
-            std::fprintf(stderr, "  splats          %llu added in tile order in %.2f CPU s; %s of "
+            std::fprintf(stderr, "  splats          %llu added in a fixed order in %.2f CPU s; %s of "
                          "splat lists from the other processes\n",
                          (unsigned long long)st.dist_splats, st.dist_splat_seconds,
                          human_bytes(size_t(st.dist_splat_bytes)).c_str());

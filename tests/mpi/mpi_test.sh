@@ -2,7 +2,7 @@
 # steradian-mpi under mpirun (docs/distributed.md): renders and meter readings of 2 and 3
 # processes are bit-identical to the one-process ones (the renderer's determinism rule: the
 # same scene, seed and sample count give the same image and readings however the work is
-# split) for the path tracer, the splatting integrators (bdpt, lightpath), vcm and the
+# split) for the path tracer, the splatting integrators (bdpt, lightpath, mlt), sppm, vcm and the
 # radiosity method, a reading keeps its closed form, a dying process fails the job in bounded time,
 # and errors are reported once.
 # Usage: tests/mpi/mpi_test.sh path/to/steradian path/to/steradian-mpi MPIEXEC
@@ -210,35 +210,55 @@ check "... within 60 s" test $((SECONDS - start)) -lt 60
 check "... saying which process" grep -q "process 1 aborts" "$tmp/dead.txt"
 check "... and writes no image" test ! -e "$tmp/dead.pfm"
 
-# Integrator "mlt" does not run on several processes yet: refused with one error, in bounded
-# time, and no image; one process of steradian-mpi renders what steradian does.
-sed 's/^WorldBegin/Integrator "mlt" "integer bootstrapsamples" [ 500 ] "integer chains" [ 16 ]\nWorldBegin/' \
+# Integrator "mlt": the bootstrap's blocks and then, round by round, the chains (their
+# states travel with them) are shared; each chain's splats are added in chain order, as one
+# process adds them, in bands of rows with two threads. 400 chains in blocks of 25 (2
+# processes), 16 (3) or 12 (2 of two threads), 3,000 bootstrap samples (3 blocks of 1,024),
+# 4 rounds.
+sed 's/^WorldBegin/Integrator "mlt" "integer bootstrapsamples" [ 500 ] "integer chains" [ 400 ]\nWorldBegin/' \
   "$tmp/scene.pbrt" > "$tmp/mlt.pbrt"
-start=$SECONDS
-run 2 render "$tmp/mlt.pbrt" -o "$tmp/mlt2.pfm" --spp 2 --threads 1 --quiet > "$tmp/mlt2.txt" 2>&1
-status=$?
-check "mlt on 2 processes is refused (status $status)" test "$status" -ne 0 -a "$status" -ne 124
-check "... within 60 s" test $((SECONDS - start)) -lt 60
-check "... saying why, once" test "$(grep -c 'several processes' "$tmp/mlt2.txt")" -eq 1
-check "... and writes no image" test ! -e "$tmp/mlt2.pfm"
-"$one" render "$tmp/mlt.pbrt" -o "$tmp/mlt1.pfm" --spp 2 --threads 1 --quiet
-run 1 render "$tmp/mlt.pbrt" -o "$tmp/mlt1mpi.pfm" --spp 2 --threads 2 --quiet
+"$one" render "$tmp/mlt.pbrt" -o "$tmp/mlt1.pfm" --spp 4 --threads 1 --quiet
+"$one" render "$tmp/mlt.pbrt" -o "$tmp/mlt1t2.pfm" --spp 4 --threads 2 --quiet
+check "mlt: one process, 1 and 2 threads: the same image" cmp -s "$tmp/mlt1.pfm" "$tmp/mlt1t2.pfm"
+check "mlt: the image is not black" not_black "$tmp/mlt1.pfm"
+for n in 2 3; do
+  run "$n" render "$tmp/mlt.pbrt" -o "$tmp/mlt$n.pfm" --spp 4 --threads 1 --quiet > "$tmp/mlt$n.txt" 2>&1
+  check "mpirun -n $n render (mlt) exits 0" test $? -eq 0
+  check "mpirun -n $n render (mlt): the image is bit-identical to one process's" cmp -s "$tmp/mlt1.pfm" "$tmp/mlt$n.pfm"
+done
+run 2 render "$tmp/mlt.pbrt" -o "$tmp/mlt2t2.pfm" --spp 4 --threads 2 --quiet > "$tmp/mlt2t2.txt" 2>&1
+check "mpirun -n 2 render (mlt, 2 threads each): bit-identical" cmp -s "$tmp/mlt1.pfm" "$tmp/mlt2t2.pfm"
+run 1 render "$tmp/mlt.pbrt" -o "$tmp/mlt1mpi.pfm" --spp 4 --threads 2 --quiet
 check "mlt on 1 process of steradian-mpi: the same image" cmp -s "$tmp/mlt1.pfm" "$tmp/mlt1mpi.pfm"
+# A worker dying while it holds chains ends the job.
+start=$SECONDS
+STERADIAN_TEST_ABORT_AFTER_JOBS=3 run 2 render "$tmp/mlt.pbrt" -o "$tmp/dead-mlt.pfm" --spp 4 --threads 1 --quiet > "$tmp/dead-mlt.txt" 2>&1
+status=$?
+check "mlt: a dying process fails the job (status $status)" test "$status" -ne 0 -a "$status" -ne 124
+check "... within 60 s" test $((SECONDS - start)) -lt 60
+check "... and writes no image" test ! -e "$tmp/dead-mlt.pfm"
 
 # An error every process meets is reported once, by process 0.
 run 3 render "$tmp/missing.pbrt" --quiet > "$tmp/missing.txt" 2>&1
 check "a missing scene fails the job" test $? -ne 0
 check "... reported once" test "$(grep -c '^error' "$tmp/missing.txt")" -eq 1
 
-# Integrator "sppm" does not run distributed: every process refuses it before the session
-# starts, process 0 says why, and no image is written (docs/sppm.md).
-sed 's/^WorldBegin/Integrator "sppm" "float radius" [ 0.1 ]\nWorldBegin/' "$tmp/scene.pbrt" > "$tmp/sppm.pbrt"
-run 2 render "$tmp/sppm.pbrt" --spp 1 -o "$tmp/sppm.pfm" > "$tmp/sppm.txt" 2>&1
-check "sppm is refused distributed" test $? -ne 0
-check "... saying why, once" test "$(grep -c 'sppm.*does not run distributed' "$tmp/sppm.txt")" -eq 1
-check "... and writes no image" test ! -e "$tmp/sppm.pfm"
-run 1 render "$tmp/sppm.pbrt" --spp 1 --quiet -o "$tmp/sppm1.pfm"
-check "sppm renders in one process" test -s "$tmp/sppm1.pfm"
+# Integrator "sppm": every iteration's photon chunks are shared (20 chunks of 1,024 photons);
+# a worker returns its photons' hits, the coordinator, which made the visible points, gathers
+# them and adds the deposits in chunk order, as one process adds them. 3 iterations.
+sed 's/^WorldBegin/Integrator "sppm" "float radius" [ 0.1 ] "integer photonsperiteration" [ 20000 ]\nWorldBegin/' \
+  "$tmp/scene.pbrt" > "$tmp/sppm.pbrt"
+"$one" render "$tmp/sppm.pbrt" --spp 3 -o "$tmp/sppm1.pfm" --threads 1 --quiet
+"$one" render "$tmp/sppm.pbrt" --spp 3 -o "$tmp/sppm1t2.pfm" --threads 2 --quiet
+check "sppm: one process, 1 and 2 threads: the same image" cmp -s "$tmp/sppm1.pfm" "$tmp/sppm1t2.pfm"
+check "sppm: the image is not black" not_black "$tmp/sppm1.pfm"
+for n in 2 3; do
+  run "$n" render "$tmp/sppm.pbrt" --spp 3 -o "$tmp/sppm$n.pfm" --threads 1 --quiet > "$tmp/sppm$n.txt" 2>&1
+  check "mpirun -n $n render (sppm) exits 0" test $? -eq 0
+  check "mpirun -n $n render (sppm): the image is bit-identical to one process's" cmp -s "$tmp/sppm1.pfm" "$tmp/sppm$n.pfm"
+done
+run 2 render "$tmp/sppm.pbrt" --spp 3 -o "$tmp/sppm2t2.pfm" --threads 2 --quiet > "$tmp/sppm2t2.txt" 2>&1
+check "mpirun -n 2 render (sppm, 2 threads each): bit-identical" cmp -s "$tmp/sppm1.pfm" "$tmp/sppm2t2.pfm"
 
 # Integrator "vcm": every process traces each iteration's light paths (the merging grid needs
 # them all), the coordinator adds their splats, and bands of film rows of the camera pass are

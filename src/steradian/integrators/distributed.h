@@ -170,8 +170,9 @@ void serve_work(Messenger& m, const std::vector<JobHandler>& handlers, int capac
 /// Phase kinds.
 inline constexpr uint8_t kRenderTiles = 0;
 inline constexpr uint8_t kMeasureItems = 1;
-/// Integrator "vcm": bands of film rows of an iteration's camera pass (vcm.cpp). (Kinds 2
-/// and 3 are left to other integrators' phases.)
+inline constexpr uint8_t kMltItems = 2;   ///< Integrator "mlt": bootstrap blocks, chains
+inline constexpr uint8_t kSppmItems = 3;  ///< Integrator "sppm": photon chunks
+/// Integrator "vcm": bands of film rows of an iteration's camera pass (vcm.cpp).
 inline constexpr uint8_t kVcmItems = 4;
 
 class Scene;
@@ -186,6 +187,10 @@ JobHandler render_job_handler(const Scene& scene, int threads,
 JobHandler measure_job_handler(const Scene& scene, int threads,
                                const RadiositySolution* radiosity = nullptr);
 
+/// The worker handlers of Integrator "mlt" (its bootstrap blocks and chains; mlt.cpp) and
+/// of Integrator "sppm" (its photon chunks; sppm.cpp) for `scene`, with `threads` threads.
+JobHandler mlt_job_handler(const Scene& scene, int threads);
+JobHandler sppm_job_handler(const Scene& scene, int threads);
 /// The worker handler of Integrator "vcm"'s camera passes (vcm.cpp) for `scene`, with
 /// `threads` worker threads (0: all).
 JobHandler vcm_job_handler(const Scene& scene, int threads);

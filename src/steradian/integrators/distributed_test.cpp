@@ -89,7 +89,8 @@ void with_workers(const Scene& scene, int workers, F&& coordinate, bool radiosit
             if (radiosity) sol = solve_radiosity(scene, scene.integrator.radiosity, 1);
             serve_work(m,
                        {render_job_handler(scene, 1, sol.get()),
-                        measure_job_handler(scene, 1, sol.get())},
+                        measure_job_handler(scene, 1, sol.get()), mlt_job_handler(scene, 1),
+                        sppm_job_handler(scene, 1), vcm_job_handler(scene, 1)},
                        2);
         });
     {
@@ -155,6 +156,26 @@ TEST(Distributed, SplattingIntegratorsEqualOneProcessBitForBit) {
     // visualizestrategies: the strategy images' splats travel too.
     expect_same_render("rgb", {},
                        R"(Integrator "bdpt" "integer maxdepth" [ 2 ] "bool visualizestrategies" true)");
+}
+
+TEST(Distributed, MetropolisEqualsOneProcessBitForBit) {
+    // The bootstrap's blocks (3 of 1,024 samples) and the chains travel between processes,
+    // in blocks of 18 (1 worker) or 12 (2 workers) chains; the chains' splats are added in
+    // chain order: the same splat sums, whatever the blocks. 3 rounds.
+    RenderOptions ro;
+    ro.spp = 3;
+    expect_same_render("rgb", ro,
+                       R"(Integrator "mlt" "integer maxdepth" [ 4 ] "integer bootstrapsamples" [ 600 ]
+                          "integer chains" [ 300 ])");
+}
+
+TEST(Distributed, SppmEqualsOneProcessBitForBit) {
+    // The photon chunks (5 of 1,024 photons) are traced by any process, gathered against the
+    // coordinator's visible points and added in chunk order: the same pixels. 3 iterations.
+    RenderOptions ro;
+    ro.spp = 3;
+    expect_same_render("rgb", ro,
+                       R"(Integrator "sppm" "float radius" [ 0.1 ] "integer photonsperiteration" [ 5000 ])");
 }
 
 TEST(Distributed, RadiosityEqualsOneProcessBitForBit) {

@@ -21,7 +21,8 @@
 /// Determinism: every random number is a function of the seed and of a bootstrap sample's
 /// or a chain's index; the chains' mutations are done in rounds of one mutation per pixel,
 /// and each round's splats are added chain by chain in chain order (each chain's in its
-/// mutation order), so the image is the same bit for bit on any number of threads, and a
+/// mutation order), so the image is the same bit for bit on any number of threads (and of
+/// processes: the chains move between them with their states), and a
 /// render stopped by its time budget after m rounds is the render of m mutations per pixel.
 #include "steradian/integrators/integrator.h"
 
@@ -33,7 +34,10 @@ class Film;
 /// Renders `scene` (Integrator "mlt") into `film`'s splat sums. opt.spp > 0 replaces
 /// "mutationsperpixel" (as pbrt-v4's --spp). Throws sr::Error for what it cannot do: a
 /// scene the bidirectional kernels cannot trace (check_bidir_scene), checkpoints, films
-/// other than "rgb", several processes, and a scene whose bootstrap found no light.
+/// other than "rgb", and a scene whose bootstrap found no light. With opt.distribute, the
+/// bootstrap's blocks and the chains (their states travelling with them) are shared with
+/// the other processes (mlt_job_handler of distributed.h) and the splats added in the same
+/// chain order: the same image (docs/distributed.md).
 RenderStats render_mlt(const Scene& scene, Film& film, const RenderOptions& opt);
 
 }  // namespace sr

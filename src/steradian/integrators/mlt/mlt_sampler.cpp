@@ -1,7 +1,9 @@
 #include "steradian/integrators/mlt/mlt_sampler.h"
 
 #include <cmath>
+#include <type_traits>
 
+#include "steradian/core/error.h"
 #include "steradian/sampling/hash.h"
 
 namespace sr {
@@ -14,6 +16,35 @@ MltSampler::MltSampler(Float sigma, Float large_step_probability, int streams,
 
 void MltSampler::reseed(uint64_t rng_index, uint64_t seed) {
     m_rng.set_sequence(mix_bits(rng_index) ^ mix_bits(seed ^ 0x6d6c74ULL), mix_bits(seed + rng_index));
+}
+
+void MltSampler::save(ByteWriter& bw) const {
+    static_assert(std::is_trivially_copyable_v<Pcg32> &&
+                  std::is_trivially_copyable_v<PrimarySample>);
+    bw.put(m_rng);
+    bw.put(m_sigma);
+    bw.put(m_large_step_probability);
+    bw.put(int32_t(m_streams));
+    bw.put(m_iteration);
+    bw.put(uint8_t(m_large_step));
+    bw.put(m_last_large_step);
+    bw.put(uint64_t(m_x.size()));
+    bw.put_array(m_x.data(), m_x.size());
+}
+
+void MltSampler::load(ByteReader& br) {
+    m_rng = br.get<Pcg32>();
+    m_sigma = br.get<Float>();
+    m_large_step_probability = br.get<Float>();
+    m_streams = br.get<int32_t>();
+    m_iteration = br.get<int64_t>();
+    m_large_step = br.get<uint8_t>() != 0;
+    m_last_large_step = br.get<int64_t>();
+    const uint64_t n = br.get<uint64_t>();
+    if (m_streams < 1 || n > br.left() / sizeof(PrimarySample))
+        throw Error("distributed: a malformed Metropolis sampler state");
+    m_x.resize(size_t(n));
+    br.get_array(m_x.data(), m_x.size());
 }
 
 void MltSampler::start_iteration() {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "steradian/integrators/distributed.h"
 #include "steradian/sampling/rng.h"
 #include "steradian/sampling/sampler.h"
 
@@ -54,6 +55,13 @@ public:
     bool large_step() const { return m_large_step; }
     /// How many numbers the state holds (the largest index read, plus one).
     size_t size() const { return m_x.size(); }
+
+    /// The whole state (numbers, generator, iteration counts) into a message, and back
+    /// (distributed chains move between processes: docs/distributed.md); a loaded sampler
+    /// continues exactly as the saved one would have. load throws sr::Error on a malformed
+    /// message.
+    void save(ByteWriter& bw) const;
+    void load(ByteReader& br);
 
 private:
     struct PrimarySample {

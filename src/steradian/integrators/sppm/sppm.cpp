@@ -4,6 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -167,6 +169,103 @@ struct PhotonThread {
 /// iterative integrators'.
 constexpr uint64_t kWavelengthSalt = 0x5350504d5f4c414dULL;
 
+/// Where a photon may deposit: a surface it reaches after at least one bounce, the direction
+/// it comes from, its throughput, and whether its secondary wavelengths were terminated
+/// (its wavelengths are otherwise the iteration's). The visible points' grid turns it into
+/// deposits (gather_photon): distributed, workers trace photons to these records and the
+/// coordinator, which holds the visible points, gathers them.
+struct PhotonHit {
+    Point3 p;
+    Vec3 wi;
+    SampledSpectrum beta;
+    bool terminated = false;
+};
+/// Bytes of a PhotonHit in a message.
+constexpr size_t kPhotonHitBytes = 12 + 12 + 4 * kSpectrumSamples + 1;
+
+/// Photon tracing, the same on every process: the lights chosen by power (pbrt-v4's
+/// shootLightSampler), the materials, the depth.
+struct PhotonTracer {
+    explicit PhotonTracer(const Scene& s)
+        : scene(s), mctx(s.material_context()), max_depth(s.integrator.max_depth) {
+        shoot.build(s.lights, LightSamplerKind::Power);
+    }
+    const Scene& scene;
+    LightSampler shoot;
+    MaterialContext mctx;
+    int max_depth;
+
+    /// Photons [i0, i1) of iteration `iter` (wavelengths `pass_lambda`): `hit(p, wi, beta,
+    /// lambda)` for every surface a photon reaches after at least one bounce, in photon order.
+    template <class OnHit>
+    void trace(int iter, int64_t i0, int64_t i1, const SampledWavelengths& pass_lambda,
+               Sampler& sampler, PathCounters& counters, OnHit&& on_hit) const {
+        for (int64_t i = i0; i < i1; ++i) {
+            sampler.start_pixel_sample(Vec2i(iter, -1), int(i));
+            const Float ul = sampler.get_pixel_1d();
+            const Point2 u_pos = sampler.get_pixel_2d();
+            const Point2 u_dir = sampler.get_2d();
+            Float pmf = 0;
+            const int li = shoot.sample(ul, pmf);
+            if (li < 0 || !(pmf > 0)) continue;
+            SampledWavelengths lambda = pass_lambda;
+            auto les = sample_le(scene.lights[size_t(li)], u_pos, u_dir, lambda);
+            if (!les || !(les->pdf_pos > 0) || !(les->pdf_dir > 0) || les->L.is_zero()) continue;
+            const bool on_surface = les->n.x != 0 || les->n.y != 0 || les->n.z != 0;
+            const Float cos = on_surface ? absdot(les->n, les->ray.d) : 1;
+            SampledSpectrum beta = les->L * (cos / (pmf * les->pdf_pos * les->pdf_dir));
+            if (beta.is_zero()) continue;
+            Ray ray = les->ray;
+            SurfaceHit hit;
+            int crossings = 0;
+            for (int depth = 0; depth < max_depth;) {
+                ++counters.rays;
+                if (!scene.intersect(ray, hit)) break;
+                std::optional<Bsdf> bsdf =
+                    hit.material >= 0
+                        ? make_bsdf(scene.materials[size_t(hit.material)], mctx, hit, lambda)
+                        : std::nullopt;
+                if (!bsdf) {
+                    // An interface: straight through, not a bounce.
+                    if (++crossings > 256) break;
+                    ray = spawn_ray(hit, ray.d);
+                    continue;
+                }
+                // The photon's flux at the visible points whose sphere holds it (the first
+                // hit is direct light, which the camera paths sample).
+                if (depth > 0) on_hit(hit.p, -ray.d, beta, lambda);
+                ++depth;
+                Float uc = 0;
+                if (bsdf->uses_uc())
+                    uc = sampler.get_1d();
+                else
+                    sampler.skip_1d();
+                const Point2 u = sampler.get_2d();
+                const Float u_rr = sampler.get_1d();
+                if (depth >= max_depth) break;
+                auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Importance);
+                if (!bs) break;
+                const SampledSpectrum bnew =
+                    beta * bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
+                // Russian roulette by the throughput's change (pbrt-v4's photons).
+                const Float q = std::max(Float(0), 1 - bnew.max_value() / beta.max_value());
+                if (u_rr < q) break;
+                beta = bnew / (1 - q);
+                if (beta.is_zero() || beta.has_nonfinite()) break;
+                ray = spawn_ray(hit, bs->wi);
+            }
+        }
+    }
+};
+
+/// The header of a distributed photon phase: the iteration, its wavelengths, the photons.
+struct PhotonJob {
+    int32_t iter = 0;
+    int64_t photons = 0, chunk_photons = 0;
+    uint64_t seed = 0;
+    SampledWavelengths lambda;
+};
+
 }  // namespace
 
 RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt) {
@@ -179,10 +278,6 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
         throw Error(fmt::format("{}: only the \"rgb\" film is supported", kName));
     if (opt.checkpoint || opt.resume)
         throw Error(fmt::format("{}: checkpoints are not supported", kName));
-    if (opt.distribute && opt.distribute->workers() > 0)
-        throw Error(fmt::format("{}: distributed rendering (steradian-mpi with more than one "
-                                "process) is not supported; run it in one process",
-                                kName));
     if (!scene.camera) throw Error(fmt::format("{}: the scene has no camera", kName));
     for (const Light& l : scene.lights)
         if (!light_can_emit(l))
@@ -233,10 +328,10 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
         return t;
     });
 
-    // Photons leave the lights chosen by power (pbrt-v4's shootLightSampler).
-    LightSampler shoot;
-    shoot.build(scene.lights, LightSamplerKind::Power);
-    const MaterialContext mctx = scene.material_context();
+    const PhotonTracer tracer(scene);
+    WorkCoordinator* const coord =
+        opt.distribute && opt.distribute->workers() > 0 ? opt.distribute : nullptr;
+    uint64_t remote_rays = 0;  // the other processes' (distributed)
 
     std::vector<Pixel> pixels(n_pixels);
     for (Pixel& px : pixels) px.radius = sp.radius;
@@ -260,7 +355,8 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
             film.sample_wavelengths(pass_wavelength_sample(uint64_t(iter), cam_seed, kWavelengthSalt));
 
         // ---- camera pass: each pixel's path to its visible point --------------------------
-        arena.execute([&] {
+        auto camera_pass = [&] {
+            arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& r) {
                 CameraThread& ct = cam_threads.local();
                 Sampler& sampler = *ct.sampler;
@@ -297,104 +393,163 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                 }
                 progress.add(uint64_t(r.size()) * uint64_t(w));
             });
-        });
-
-        // ---- the visible points' grid --------------------------------------------------------
-        grid.build(pixels);
-        // A photon deposits at most max_list() times at each of at most max_depth surfaces:
-        // chunks of that many photons keep their deposit lists within kChunkDeposits.
-        const uint64_t per_photon =
-            uint64_t(std::max(1, max_depth)) * uint64_t(std::max<size_t>(1, grid.max_list()));
-        const int64_t chunk_photons = int64_t(
-            std::clamp<uint64_t>(kChunkDeposits / per_photon, 1, uint64_t(kPhotonChunk)));
+            });
+        };
+        // Distributed, the photons are traced before the grid exists: chunks of 1,024 to
+        // 8,192 photons, about 16 per thread of all processes (a worker's job is then
+        // milliseconds of work at least: a busy coordinator answers a request late).
+        int64_t chunk_photons =
+            coord ? std::clamp<int64_t>(
+                        photons / (16 * int64_t(threads) * (coord->workers() + 1)),
+                        kPhotonChunk, 8 * kPhotonChunk)
+                  : kPhotonChunk;
+        if (!coord) {
+            // ---- the visible points' grid ----------------------------------------------------
+            camera_pass();
+            grid.build(pixels);
+            // A photon deposits at most max_list() times at each of at most max_depth
+            // surfaces: chunks of that many photons keep their deposit lists within
+            // kChunkDeposits.
+            const uint64_t per_photon = uint64_t(std::max(1, max_depth)) *
+                                        uint64_t(std::max<size_t>(1, grid.max_list()));
+            chunk_photons = int64_t(
+                std::clamp<uint64_t>(kChunkDeposits / per_photon, 1, uint64_t(kPhotonChunk)));
+        }
         const size_t n_chunks = size_t((photons + chunk_photons - 1) / chunk_photons);
 
         // ---- photon pass ---------------------------------------------------------------------
-        auto trace_chunk = [&](size_t chunk, std::vector<Deposit>& out, uint64_t& nonfinite) {
-            PhotonThread& pt = photon_threads.local();
-            Sampler& sampler = *pt.sampler;
-            const int64_t i0 = int64_t(chunk) * chunk_photons;
-            const int64_t i1 = std::min<int64_t>(photons, i0 + chunk_photons);
-            for (int64_t i = i0; i < i1; ++i) {
-                sampler.start_pixel_sample(Vec2i(iter, -1), int(i));
-                const Float ul = sampler.get_pixel_1d();
-                const Point2 u_pos = sampler.get_pixel_2d();
-                const Point2 u_dir = sampler.get_2d();
-                Float pmf = 0;
-                const int li = shoot.sample(ul, pmf);
-                if (li < 0 || !(pmf > 0)) continue;
-                SampledWavelengths lambda = pass_lambda;
-                auto les = sample_le(scene.lights[size_t(li)], u_pos, u_dir, lambda);
-                if (!les || !(les->pdf_pos > 0) || !(les->pdf_dir > 0) || les->L.is_zero())
-                    continue;
-                const bool on_surface = les->n.x != 0 || les->n.y != 0 || les->n.z != 0;
-                const Float cos = on_surface ? absdot(les->n, les->ray.d) : 1;
-                SampledSpectrum beta = les->L * (cos / (pmf * les->pdf_pos * les->pdf_dir));
-                if (beta.is_zero()) continue;
-                Ray ray = les->ray;
-                SurfaceHit hit;
-                int crossings = 0;
-                for (int depth = 0; depth < max_depth;) {
-                    ++pt.counters.rays;
-                    if (!scene.intersect(ray, hit)) break;
-                    std::optional<Bsdf> bsdf =
-                        hit.material >= 0
-                            ? make_bsdf(scene.materials[size_t(hit.material)], mctx, hit, lambda)
-                            : std::nullopt;
-                    if (!bsdf) {
-                        // An interface: straight through, not a bounce.
-                        if (++crossings > 256) break;
-                        ray = spawn_ray(hit, ray.d);
-                        continue;
-                    }
-                    if (depth > 0) {
-                        // The photon's flux at the visible points whose sphere holds it (the
-                        // first hit is direct light, which the camera paths sample).
-                        const Vec3 wi = -ray.d;
-                        auto [b, e] = grid.near(hit.p);
-                        for (; b != e; ++b) {
-                            const Pixel& px = pixels[*b];
-                            if (length_squared(px.vp.p - hit.p) > sqr(px.radius)) continue;
-                            const SampledSpectrum phi =
-                                px.vp.beta * beta * px.vp.bsdf->f(px.vp.wo, wi);
-                            if (phi.is_zero()) continue;
-                            SampledWavelengths pl = lambda;
-                            if (px.vp.secondary_terminated) pl.terminate_secondary();
-                            std::array<double, 3> xyz{0, 0, 0};
-                            bool finite = !phi.has_nonfinite();
-                            if (finite) {
-                                xyz = conv.to_sensor(phi, pl);
-                                finite = finite3(xyz);
-                            }
-                            if (!finite) {
-                                ++nonfinite;
-                                continue;
-                            }
-                            out.push_back({*b, {float(xyz[0]), float(xyz[1]), float(xyz[2])}});
-                        }
-                    }
-                    ++depth;
-                    Float uc = 0;
-                    if (bsdf->uses_uc())
-                        uc = sampler.get_1d();
-                    else
-                        sampler.skip_1d();
-                    const Point2 u = sampler.get_2d();
-                    const Float u_rr = sampler.get_1d();
-                    if (depth >= max_depth) break;
-                    auto bs = bsdf->sample(hit.wo, uc, u, TransportMode::Importance);
-                    if (!bs) break;
-                    const SampledSpectrum bnew =
-                        beta * bs->f * (absdot(bs->wi, bsdf->frame().n) / bs->pdf_sa);
-                    // Russian roulette by the throughput's change (pbrt-v4's photons).
-                    const Float q = std::max(Float(0), 1 - bnew.max_value() / beta.max_value());
-                    if (u_rr < q) break;
-                    beta = bnew / (1 - q);
-                    if (beta.is_zero() || beta.has_nonfinite()) break;
-                    ray = spawn_ray(hit, bs->wi);
+        // A photon's deposits: the visible points whose sphere holds the surface it reached.
+        auto gather = [&](Point3 p, Vec3 wi, const SampledSpectrum& beta,
+                          const SampledWavelengths& lambda, std::vector<Deposit>& out,
+                          uint64_t& nonfinite) {
+            auto [b, e] = grid.near(p);
+            for (; b != e; ++b) {
+                const Pixel& px = pixels[*b];
+                if (length_squared(px.vp.p - p) > sqr(px.radius)) continue;
+                const SampledSpectrum phi = px.vp.beta * beta * px.vp.bsdf->f(px.vp.wo, wi);
+                if (phi.is_zero()) continue;
+                SampledWavelengths pl = lambda;
+                if (px.vp.secondary_terminated) pl.terminate_secondary();
+                std::array<double, 3> xyz{0, 0, 0};
+                bool finite = !phi.has_nonfinite();
+                if (finite) {
+                    xyz = conv.to_sensor(phi, pl);
+                    finite = finite3(xyz);
                 }
+                if (!finite) {
+                    ++nonfinite;
+                    continue;
+                }
+                out.push_back({*b, {float(xyz[0]), float(xyz[1]), float(xyz[2])}});
             }
         };
+        auto trace_chunk = [&](size_t chunk, std::vector<Deposit>& out, uint64_t& nonfinite) {
+            PhotonThread& pt = photon_threads.local();
+            const int64_t i0 = int64_t(chunk) * chunk_photons;
+            const int64_t i1 = std::min<int64_t>(photons, i0 + chunk_photons);
+            tracer.trace(iter, i0, i1, pass_lambda, *pt.sampler, pt.counters,
+                         [&](Point3 p, Vec3 wi, const SampledSpectrum& beta,
+                             const SampledWavelengths& lambda) {
+                             gather(p, wi, beta, lambda, out, nonfinite);
+                         });
+        };
+        // Distributed: the photon chunks are the items. A worker traces a chunk's photons to
+        // their PhotonHit records, which come back to be gathered here; this process's
+        // threads do the camera pass and build the grid first (while the workers trace), then
+        // trace and gather chunks themselves. The chunks' deposits are then added in chunk
+        // order below, exactly as one process adds them.
+        std::vector<std::vector<PhotonHit>> chunk_hits;
+        std::vector<std::vector<Deposit>> chunk_deposits;
+        std::vector<uint8_t> remote_chunk;
+        std::vector<uint64_t> chunk_bad;
+        std::vector<size_t> arrived;  // workers' chunks not yet gathered
+        std::mutex arrived_mutex;
+        // A worker's chunk: its photons' hits gathered here, in photon order (once).
+        auto gather_remote = [&](size_t c) {
+            if (!remote_chunk[c]) return;
+            SampledWavelengths terminated = pass_lambda;
+            terminated.terminate_secondary();
+            for (const PhotonHit& hh : chunk_hits[c])
+                gather(hh.p, hh.wi, hh.beta, hh.terminated ? terminated : pass_lambda,
+                       chunk_deposits[c], chunk_bad[c]);
+            std::vector<PhotonHit>().swap(chunk_hits[c]);
+            remote_chunk[c] = 2;  // gathered
+        };
+        if (coord) {
+            chunk_hits.resize(n_chunks);
+            chunk_deposits.resize(n_chunks);
+            remote_chunk.assign(n_chunks, 0);
+            chunk_bad.assign(n_chunks, 0);
+            WorkCoordinator::Phase ph;
+            ph.kind = kSppmItems;
+            PhotonJob job;
+            job.iter = iter;
+            job.photons = photons;
+            job.chunk_photons = chunk_photons;
+            job.seed = photon_seed;
+            job.lambda = pass_lambda;
+            ByteWriter(ph.header).put(job);
+            ph.items = n_chunks;
+            ph.input = [](size_t, ByteWriter&) {};
+            ph.output = [&](size_t c, ByteReader& br) {
+                remote_rays += br.get<uint64_t>();
+                const size_t at = br.left();
+                const uint64_t n = br.get<uint64_t>();
+                if (n > br.left() / kPhotonHitBytes) throw Error("distributed: a truncated message");
+                std::vector<PhotonHit>& hits = chunk_hits[c];
+                hits.resize(size_t(n));
+                for (PhotonHit& hh : hits) {
+                    for (int k = 0; k < 3; ++k) hh.p[k] = br.get<Float>();
+                    for (int k = 0; k < 3; ++k) hh.wi[k] = br.get<Float>();
+                    for (int k = 0; k < kSpectrumSamples; ++k) hh.beta[k] = br.get<Float>();
+                    hh.terminated = br.get<uint8_t>() != 0;
+                }
+                stats.dist_splat_bytes += at - br.left();
+                remote_chunk[c] = 1;
+                {
+                    const std::lock_guard<std::mutex> lock(arrived_mutex);
+                    arrived.push_back(c);
+                }
+                const int64_t i0 = int64_t(c) * chunk_photons;
+                progress.add(uint64_t(std::min<int64_t>(photons, i0 + chunk_photons) - i0));
+            };
+            ph.local = [&](const std::function<std::optional<size_t>()>& claim,
+                           const std::function<void(size_t)>&) {
+                camera_pass();
+                grid.build(pixels);
+                // The threads gather the workers' chunks that have come in before they trace
+                // a chunk of their own, so that few are left to gather when the phase ends
+                // (the workers idle then).
+                auto next_arrived = [&]() -> std::optional<size_t> {
+                    const std::lock_guard<std::mutex> lock(arrived_mutex);
+                    if (arrived.empty()) return std::nullopt;
+                    const size_t c = arrived.back();
+                    arrived.pop_back();
+                    return c;
+                };
+                arena.execute([&] {
+                    tbb::parallel_for(
+                        0, threads,
+                        [&](int) {
+                            for (;;) {
+                                if (const std::optional<size_t> c = next_arrived()) {
+                                    gather_remote(*c);
+                                    continue;
+                                }
+                                const std::optional<size_t> c = claim();
+                                if (!c) return;
+                                trace_chunk(*c, chunk_deposits[*c], chunk_bad[*c]);
+                                const int64_t i0 = int64_t(*c) * chunk_photons;
+                                progress.add(uint64_t(
+                                    std::min<int64_t>(photons, i0 + chunk_photons) - i0));
+                            }
+                        },
+                        tbb::simple_partitioner());
+                });
+            };
+            coord->run(ph);
+        }
+        const double reduce_cpu0 = coord ? process_cpu_seconds() : 0;
         for (size_t c0 = 0; c0 < n_chunks; c0 += slab) {
             const size_t c1 = std::min(n_chunks, c0 + slab);
             arena.execute([&] {
@@ -402,6 +557,16 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                     tbb::blocked_range<size_t>(c0, c1, 1),
                     [&](const tbb::blocked_range<size_t>& r) {
                         for (size_t c = r.begin(); c < r.end(); ++c) {
+                            if (coord) {
+                                // Distributed: the workers' chunks not gathered yet are now
+                                // (this process's chunks are gathered already).
+                                if (remote_chunk[c] == 1) gather_remote(c);
+                                std::vector<Deposit>& out = chunk_deposits[c];
+                                deposits[c - c0].swap(out);
+                                chunk_nonfinite[c - c0] = chunk_bad[c];
+                                std::vector<Deposit>().swap(out);
+                                continue;
+                            }
                             deposits[c - c0].clear();
                             chunk_nonfinite[c - c0] = 0;
                             trace_chunk(c, deposits[c - c0], chunk_nonfinite[c - c0]);
@@ -415,6 +580,7 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
             // The ordered reduction: chunk by chunk, each chunk's deposits in photon order.
             for (size_t c = c0; c < c1; ++c) {
                 nonfinite_photons += chunk_nonfinite[c - c0];
+                if (coord && remote_chunk[c] != 0) stats.dist_splats += deposits[c - c0].size();
                 for (const Deposit& d : deposits[c - c0]) {
                     Pixel& px = pixels[d.pixel];
                     for (int k = 0; k < 3; ++k) px.phi[k] += double(d.xyz[k]);
@@ -422,6 +588,8 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
                 }
             }
         }
+
+        if (coord) stats.dist_splat_seconds += process_cpu_seconds() - reduce_cpu0;
 
         // ---- radius and flux update (Hachisuka and Jensen 2009, eqs. 6-7; alpha = 2/3) ----
         arena.execute([&] {
@@ -481,8 +649,86 @@ RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& opt
         stats.nonfinite += t.nonfinite;
     }
     for (const PhotonThread& t : photon_threads) stats.rays += t.counters.rays;
+    stats.rays += remote_rays;
     stats.peak_rss_bytes = peak_rss_bytes();
     return stats;
+}
+
+}  // namespace sr
+
+namespace sr {
+
+JobHandler sppm_job_handler(const Scene& scene, int threads) {
+    // A worker's state: the photon tracer, and per thread a photon sampler of the photon count
+    // and seed the jobs carry.
+    struct Worker {
+        PhotonTracer tracer;
+        int threads;
+        tbb::task_arena arena;
+        int64_t photons = -1;
+        uint64_t seed = 0;
+        std::unique_ptr<PaddedSobolSampler> proto;
+        std::unique_ptr<tbb::enumerable_thread_specific<PhotonThread>> states;
+        Worker(const Scene& s, int n)
+            : tracer(s), threads(n > 0 ? n : int(std::thread::hardware_concurrency())),
+              arena(threads) {}
+    };
+    auto wk = std::make_shared<Worker>(scene, threads);
+    return [&scene, wk](ByteReader& header, size_t count, ByteReader& inputs,
+                        ByteWriter& outputs) {
+        Worker& W = *wk;
+        if (scene.integrator.type != "sppm")
+            throw Error("distributed: photon work for a scene of another integrator");
+        const PhotonJob job = header.get<PhotonJob>();
+        if (job.photons < 1 || job.photons > INT32_MAX || job.chunk_photons < 1 || job.iter < 0)
+            throw Error("distributed: a malformed photon job");
+        if (!W.proto || W.photons != job.photons || W.seed != job.seed) {
+            W.proto = std::make_unique<PaddedSobolSampler>(int(job.photons), job.seed);
+            W.photons = job.photons;
+            W.seed = job.seed;
+            W.states = std::make_unique<tbb::enumerable_thread_specific<PhotonThread>>([&W] {
+                PhotonThread t;
+                t.sampler = W.proto->clone();
+                return t;
+            });
+        }
+        const size_t n_chunks = size_t((job.photons + job.chunk_photons - 1) / job.chunk_photons);
+        std::vector<uint64_t> items(count), rays(count, 0);
+        for (size_t j = 0; j < count; ++j) {
+            items[j] = inputs.get<uint64_t>();
+            if (items[j] >= n_chunks) throw Error("distributed: a photon chunk of none");
+        }
+        std::vector<std::vector<PhotonHit>> hits(count);
+        W.arena.execute([&] {
+            tbb::parallel_for(
+                size_t(0), count,
+                [&](size_t j) {
+                    PhotonThread& pt = W.states->local();
+                    const uint64_t before = pt.counters.rays;
+                    const int64_t i0 = int64_t(items[j]) * job.chunk_photons;
+                    const int64_t i1 = std::min<int64_t>(job.photons, i0 + job.chunk_photons);
+                    W.tracer.trace(job.iter, i0, i1, job.lambda, *pt.sampler, pt.counters,
+                                   [&](Point3 p, Vec3 wi, const SampledSpectrum& beta,
+                                       const SampledWavelengths& lambda) {
+                                       hits[j].push_back(
+                                           {p, wi, beta, lambda.secondary_terminated()});
+                                   });
+                    rays[j] = pt.counters.rays - before;
+                },
+                tbb::simple_partitioner());
+        });
+        for (size_t j = 0; j < count; ++j) {
+            outputs.put(items[j]);
+            outputs.put(rays[j]);
+            outputs.put(uint64_t(hits[j].size()));
+            for (const PhotonHit& hh : hits[j]) {
+                for (int k = 0; k < 3; ++k) outputs.put(hh.p[k]);
+                for (int k = 0; k < 3; ++k) outputs.put(hh.wi[k]);
+                for (int k = 0; k < kSpectrumSamples; ++k) outputs.put(hh.beta[k]);
+                outputs.put(uint8_t(hh.terminated));
+            }
+        }
+    };
 }
 
 }  // namespace sr

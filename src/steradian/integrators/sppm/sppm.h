@@ -27,7 +27,10 @@ struct RenderOptions;
 struct RenderStats;
 
 /// Renders `scene` (Integrator "sppm") into `film`: throws sr::Error for what sppm does not
-/// support (media, films other than "rgb", checkpoints, distributed rendering).
+/// support (media, films other than "rgb", checkpoints). With options.distribute, each
+/// iteration's photon chunks are traced by any process (sppm_job_handler of distributed.h)
+/// to their hits, which this process gathers against its visible points and adds in chunk
+/// order: the same image (docs/distributed.md).
 RenderStats render_sppm(const Scene& scene, Film& film, const RenderOptions& options);
 
 }  // namespace sr
