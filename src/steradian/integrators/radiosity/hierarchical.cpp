@@ -28,9 +28,11 @@ struct Link {
 /// uniformly distributed over each (the R2 sequence, shifted by a hash of the pair): an
 /// unbiased estimate of the mean visibility (fixed quadrature points would repeat the same
 /// error over the many congruent pairs of a mesh).
+/// With `all_or_none`, the rays stop at the first packet with a blocked ray (the result is
+/// then only compared with 1: whether all n pass).
 double visible_fraction(const PatchGeom& a, const PatchGeom& b, uint64_t key, double eps,
                         const Visibility& vis, const VisibilityBatch& batch, uint64_t& rays,
-                        int n) {
+                        int n, bool all_or_none = false) {
     int pass = 0;
     DVec3 from[8], to[8];
     for (int i0 = 0; i0 < n; i0 += 8) {
@@ -50,6 +52,7 @@ double visible_fraction(const PatchGeom& a, const PatchGeom& b, uint64_t key, do
         } else {
             for (int j = 0; j < m; ++j) pass += vis(from[j], to[j]) ? 1 : 0;
         }
+        if (all_or_none && pass < i0 + m) return 0;
     }
     return double(pass) / double(n);
 }
@@ -189,16 +192,17 @@ std::vector<double> solve_hierarchical(const std::vector<HierNode>& nodes,
                     };
                     // Visibility: the fraction of rays between the two that pass (none cast when a
                     // coarser pair containing these two was wholly visible).
-                    auto visibility = [&](int n) {
-                        return !visible || seen ? 1.0
-                                                : visible_fraction(P.g, Q.g,
-                                                                   hash(uint64_t(p), uint64_t(q)),
-                                                                   prm.eps, visible,
-                                                                   visible_batch, my_rays, n);
+                    auto visibility = [&](int n, bool all_or_none = false) {
+                        return !visible || seen
+                                   ? 1.0
+                                   : visible_fraction(P.g, Q.g, hash(uint64_t(p), uint64_t(q)),
+                                                      prm.eps, visible, visible_batch, my_rays,
+                                                      n, all_or_none);
                     };
                     if (can_split && link_err > eps_irr) {
-                        // 16 rays that all pass: the children are taken as wholly visible.
-                        split(visibility(kWholeRays) == 1);
+                        // 16 rays that all pass: the children are taken as wholly visible
+                        // (the rays stop at the first blocked packet).
+                        split(visibility(kWholeRays, true) == 1);
                         continue;
                     }
                     // A partly hidden pair that carries light is split; an unhidden one gets
