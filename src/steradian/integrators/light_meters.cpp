@@ -173,56 +173,76 @@ void light_trace_meters(const Scene& scene, const std::vector<int>& which,
     tbb::task_arena arena(threads);
     // Per replica, the sums over its particles so far (cell by cell).
     std::vector<std::vector<double>> sum(size_t(R), std::vector<double>(cells, 0.0));
+    // The round's sums, added to `sum` once the round is complete (an abandoned round adds
+    // nothing).
+    std::vector<std::vector<double>> round_sum(size_t(R), std::vector<double>(cells, 0.0));
     uint64_t n = 0;  // particles per replica so far
     uint64_t next = std::max<uint64_t>(kChunk, opt.first_paths / kChunk * kChunk);
     std::vector<double> mean(cells, 0), se(cells, 0);
     std::vector<uint8_t> conv(cells, 0);
-    double round_seconds = 0;
+    double round_seconds = 0;  // of the last round, which had last_round particles a replica
+    uint64_t last_round = 1;
     while (true) {
         // A round: particles [n, next) of every replica, in chunks.
         const uint64_t chunks_per_replica = (next - n) / kChunk;
         const size_t chunks = size_t(chunks_per_replica) * size_t(R);
         if (opt.time_budget > 0 && n > 0) {
             const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
-            if (spent + round_seconds * double(next - n) / double(n) > opt.time_budget) {
+            if (spent + round_seconds * double(next - n) / double(last_round) >
+                opt.time_budget) {
                 stats.time_limited = true;
                 break;
             }
         }
         const auto round_start = Clock::now();
-        std::vector<std::vector<double>> part(chunks);
-        std::vector<uint64_t> chunk_rays(chunks, 0), chunk_nonfinite(chunks, 0);
+        // The round's chunks in blocks: a block's chunks in parallel, each with sums of its
+        // own, then added in chunk order (memory: a block's sums, not the round's).
+        constexpr size_t kBlock = 64;
+        std::vector<std::vector<double>> part(std::min(kBlock, chunks));
+        std::vector<uint64_t> chunk_rays(part.size()), chunk_nonfinite(part.size());
         std::atomic<bool> abandoned{false};
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-                if (abandoned.load()) return;
-                if (opt.stop && opt.stop->load()) {
-                    abandoned = true;
-                    return;
-                }
-                const int r = int(c / size_t(chunks_per_replica));
-                const uint64_t first = n + uint64_t(c % size_t(chunks_per_replica)) * kChunk;
-                std::vector<double>& s = part[c];
-                s.assign(cells, 0.0);
-                for (uint64_t k = first; k < first + kChunk; ++k) {
-                    Pcg32 rng(hash(opt.seed, uint64_t(r), k));
-                    chunk_rays[c] +=
-                        trace_particle(scene, grids, max_depth, rng, s.data(), chunk_nonfinite[c]);
-                }
+        for (size_t b0 = 0; b0 < chunks && !abandoned.load(); b0 += kBlock) {
+            const size_t nb = std::min(kBlock, chunks - b0);
+            arena.execute([&] {
+                tbb::parallel_for(size_t(0), nb, [&](size_t i) {
+                    if (abandoned.load()) return;
+                    if (opt.stop && opt.stop->load()) {
+                        abandoned = true;
+                        return;
+                    }
+                    const size_t c = b0 + i;
+                    const int r = int(c / size_t(chunks_per_replica));
+                    const uint64_t first = n + uint64_t(c % size_t(chunks_per_replica)) * kChunk;
+                    std::vector<double>& ps = part[i];
+                    ps.assign(cells, 0.0);
+                    chunk_rays[i] = chunk_nonfinite[i] = 0;
+                    for (uint64_t k = first; k < first + kChunk; ++k) {
+                        Pcg32 rng(hash(opt.seed, uint64_t(r), k));
+                        chunk_rays[i] += trace_particle(scene, grids, max_depth, rng, ps.data(),
+                                                        chunk_nonfinite[i]);
+                    }
+                });
             });
-        });
+            if (abandoned.load()) break;
+            for (size_t i = 0; i < nb; ++i) {
+                const size_t r = (b0 + i) / size_t(chunks_per_replica);
+                for (size_t k = 0; k < cells; ++k) round_sum[r][k] += part[i][k];
+                stats.rays += chunk_rays[i];
+                stats.nonfinite += chunk_nonfinite[i];
+            }
+        }
         if (abandoned.load()) {
             stats.time_limited = true;
             break;
         }
-        for (size_t c = 0; c < chunks; ++c) {
-            const size_t r = c / size_t(chunks_per_replica);
-            for (size_t k = 0; k < cells; ++k) sum[r][k] += part[c][k];
-            stats.rays += chunk_rays[c];
-            stats.nonfinite += chunk_nonfinite[c];
-        }
+        for (int r = 0; r < R; ++r)
+            for (size_t k = 0; k < cells; ++k) {
+                sum[size_t(r)][k] += round_sum[size_t(r)][k];
+                round_sum[size_t(r)][k] = 0;
+            }
         stats.paths += uint64_t(chunks) * kChunk;
         round_seconds = std::chrono::duration<double>(Clock::now() - round_start).count();
+        last_round = next - n;
         n = next;
         // The cells' means and standard errors over the replicas.
         bool all = true;
