@@ -554,6 +554,18 @@ check "--radiosity-mesh without radiosity says why" grep -q "not radiosity" "$tm
 check "auto keeps the path tracer for a sphere" grep -q "method path (auto: " "$tmp/radm.txt"
 "$bin" measure "$cie58" --pilot-samples 3 > "$tmp/radps.txt" 2>&1
 check "--pilot-samples must be a power of two" grep -q "not a power of two" "$tmp/radps.txt"
+# measure --method light: the cell-averaged grids by light tracing (their estimator says so,
+# the JSON's method is "light"); checkpoints are refused with it.
+"$bin" measure "$cie58" --method light --rel-error 0.05 --json "$tmp/light.json" > "$tmp/light.txt" 2>&1
+check "measure --method light exits 0" test $? -eq 0
+check "--method light says so" grep -q "method light (--method light)" "$tmp/light.txt"
+check "the light-traced grids say light tracing" python3 -c "
+import json; d = json.load(open('$tmp/light.json'))
+assert d['method'] == 'light', d['method']
+assert all(m['estimator'] == 'light tracing' and m['stderr'][0] > 0 for m in d['meters']), d['meters']"
+"$bin" measure "$cie58" --method light --checkpoint "$tmp/light.ckpt" > "$tmp/lightc.txt" 2>&1
+check "--method light with a checkpoint fails" test $? -ne 0
+check "--method light with a checkpoint says why" grep -q "checkpoints are not supported with light tracing" "$tmp/lightc.txt"
 sed 's/^Integrator .*/Integrator "radiosity" "integer maxpatches" [ 200 ]/' "$cie58" > "$tmp/rad-int.pbrt"
 "$bin" render "$tmp/rad-int.pbrt" -o "$tmp/rad.exr" --spp 4 --radiosity-mesh "$tmp/rad2.ply" --quiet
 check "render with Integrator radiosity exits 0" test $? -eq 0
