@@ -213,6 +213,30 @@ TEST(Vcm, AgreesWithThePathTracerOnTheGlassAndMetalCornellBox) {
     EXPECT_LT(compare(v, p, 0.12, "vcm/path glass and metal"), 4.0);
 }
 
+// sppm on the same glass-and-metal box: its visible points are the camera paths' first
+// diffuse (or glossy) vertices behind the glass and in the metal, and it agrees with the path
+// tracer within the standard errors and the merging bias bound of the Cornell box test
+// (sppm_test.cpp: at most 12 % of a block with a radius small against a block's width).
+TEST(Sppm, AgreesWithThePathTracerOnTheGlassAndMetalCornellBox) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) +
+                              "/tests/data/reference/cornell-box-glass-metal/scene.pbrt");
+    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
+                 "\"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]");
+    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
+    const size_t i = s.find("Integrator \"path\"");
+    ASSERT_NE(i, std::string::npos);
+    const size_t e = s.find('\n', i);
+    auto with = [&](const std::string& integ) { return s.substr(0, i) + integ + s.substr(e); };
+    constexpr int kReps = 4;
+    const BlockStats p =
+        replicas(with("Integrator \"path\" \"integer maxdepth\" [ 8 ]"), 64, 700, kReps);
+    const BlockStats q = replicas(with("Integrator \"sppm\" \"integer maxdepth\" [ 8 ] "
+                                       "\"float radius\" [ 2 ] \"integer photonsperiteration\" "
+                                       "[ 65536 ]"),
+                                  32, 900, kReps);
+    EXPECT_LT(compare(q, p, 0.12, "sppm/path glass and metal"), 4.0);
+}
+
 // Without merging, vcm is a bidirectional path tracer: unbiased, so it agrees with the path
 // tracer within the standard errors alone (this checks the MIS weights of the connections,
 // the light samples, the emitters found and the camera connections sum to one on every path:
