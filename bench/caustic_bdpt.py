@@ -59,6 +59,21 @@ def render_timed(exe, scene, spp, seed, out):
     return read_pfm(out) @ Y, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
+def runs_of(exe, scene, count, runs, ref, ref_img, out_prefix):
+    """`runs` renders of `scene` at `count` samples with seeds 0 .. runs - 1 (outputs
+    `out_prefix`-SEED.pfm): per run the mean square of the blocks' relative errors against the
+    reference blocks `ref`, the CPU seconds, and the image mean's relative error against
+    `ref_img`'s."""
+    mses, secs, mean_err = [], [], []
+    for seed in range(runs):
+        img, cpu = render_timed(exe, scene, count, seed, f"{out_prefix}-{seed}.pfm")
+        secs.append(cpu)
+        rel = (blocks(img) - ref) / ref
+        mses.append(float(np.mean(rel * rel)))
+        mean_err.append(img.mean() / ref_img.mean() - 1)
+    return mses, secs, mean_err
+
+
 def compare_third(doc, third, default_count, unit="spp"):
     """path, bdpt and `third` on the caustic (maxdepth 8 for all), each RUNS times: the RMS
     relative block error, the image mean's relative error, and the errors' ratios at equal CPU
@@ -80,13 +95,7 @@ def compare_third(doc, third, default_count, unit="spp"):
         scene = tmp / f"{name}.pbrt"
         scene.write_text(text.replace('Integrator "bdpt" "integer maxdepth" [ 8 ]',
                                       f'Integrator "{name}" "integer maxdepth" [ 8 ]'))
-        mses, secs, mean_err = [], [], []
-        for seed in range(runs):
-            img, cpu = render_timed(exe, scene, spp[name], seed, tmp / f"{name}-{seed}.pfm")
-            secs.append(cpu)
-            rel = (blocks(img) - ref) / ref
-            mses.append(float(np.mean(rel * rel)))
-            mean_err.append(img.mean() / ref_img.mean() - 1)
+        mses, secs, mean_err = runs_of(exe, scene, spp[name], runs, ref, ref_img, tmp / name)
         res[name] = (np.mean(mses), np.mean(secs))
         print(f"{name:5s} {spp[name]:4d} {unit if name == third else 'spp'}: CPU "
               f"{np.mean(secs):7.2f} s, RMS relative block error {np.sqrt(np.mean(mses)):.4f} "

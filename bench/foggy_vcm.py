@@ -20,7 +20,7 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
-from caustic_bdpt import Y, blocks, read_exr, render_timed  # noqa: E402
+from caustic_bdpt import Y, blocks, read_exr, runs_of  # noqa: E402
 
 SCENE = pathlib.Path(__file__).parent / "scenes" / "foggy_room.pbrt"
 LINE = 'Integrator "bdpt" "integer maxdepth" [ 6 ]'
@@ -44,13 +44,7 @@ def main():
     for name in ("path", "bdpt", "vcm"):
         scene = tmp / f"{name}.pbrt"
         scene.write_text(text.replace(LINE, f'Integrator "{name}" "integer maxdepth" [ 6 ]'))
-        mses, secs, mean_err = [], [], []
-        for seed in range(runs):
-            img, cpu = render_timed(exe, scene, count[name], seed, tmp / f"{name}-{seed}.pfm")
-            secs.append(cpu)
-            rel = (blocks(img) - ref) / ref
-            mses.append(float(np.mean(rel * rel)))
-            mean_err.append(img.mean() / ref_img.mean() - 1)
+        mses, secs, mean_err = runs_of(exe, scene, count[name], runs, ref, ref_img, tmp / name)
         res[name] = (np.mean(mses), np.mean(secs))
         print(f"{name:5s} {count[name]:4d} spp: CPU {np.mean(secs):7.2f} s, RMS relative block "
               f"error {np.sqrt(np.mean(mses)):.4f} (runs {', '.join(f'{np.sqrt(m):.4f}' for m in mses)}); "

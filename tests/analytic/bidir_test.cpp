@@ -81,15 +81,7 @@ TEST(Bidirectional, PathLightpathAndBdptAgreeOnTheCornellBox) {
 // The same with glass (BK7, dispersive), gold and silver spheres in the box: paths through
 // specular vertices, which only some strategies can make, and caustics. 16 x 16-pixel blocks.
 TEST(Bidirectional, PathAndBdptAgreeOnTheGlassAndMetalCornellBox) {
-    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) +
-                              "/tests/data/reference/cornell-box-glass-metal/scene.pbrt");
-    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
-                 "\"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]");
-    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
-    const size_t i = s.find("Integrator \"path\"");
-    ASSERT_NE(i, std::string::npos);
-    const size_t e = s.find('\n', i);
-    auto with = [&](const std::string& integ) { return s.substr(0, i) + integ + s.substr(e); };
+    auto with = [](const std::string& integ) { return glass_metal_box(integ, 64); };
     std::vector<std::vector<double>> pr, br;
     for (int r = 0; r < kReplicas; ++r) {
         pr.push_back(block_means(

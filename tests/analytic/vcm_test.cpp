@@ -195,15 +195,7 @@ TEST(Vcm, AgreesWithThePathTracerOnTheCornellBox) {
 // cannot reach and merging carries. The bias bound is the one above, doubled for the
 // caustic's edge, where the irradiance changes across the merging disk.
 TEST(Vcm, AgreesWithThePathTracerOnTheGlassAndMetalCornellBox) {
-    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) +
-                              "/tests/data/reference/cornell-box-glass-metal/scene.pbrt");
-    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
-                 "\"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]");
-    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
-    const size_t i = s.find("Integrator \"path\"");
-    ASSERT_NE(i, std::string::npos);
-    const size_t e = s.find('\n', i);
-    auto with = [&](const std::string& integ) { return s.substr(0, i) + integ + s.substr(e); };
+    auto with = [](const std::string& integ) { return glass_metal_box(integ, 64); };
     constexpr int kReps = 4;
     const BlockStats p =
         replicas(with("Integrator \"path\" \"integer maxdepth\" [ 8 ]"), 64, 700, kReps);
@@ -218,15 +210,7 @@ TEST(Vcm, AgreesWithThePathTracerOnTheGlassAndMetalCornellBox) {
 // tracer within the standard errors and the merging bias bound of the Cornell box test
 // (sppm_test.cpp: at most 12 % of a block with a radius small against a block's width).
 TEST(Sppm, AgreesWithThePathTracerOnTheGlassAndMetalCornellBox) {
-    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) +
-                              "/tests/data/reference/cornell-box-glass-metal/scene.pbrt");
-    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
-                 "\"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]");
-    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
-    const size_t i = s.find("Integrator \"path\"");
-    ASSERT_NE(i, std::string::npos);
-    const size_t e = s.find('\n', i);
-    auto with = [&](const std::string& integ) { return s.substr(0, i) + integ + s.substr(e); };
+    auto with = [](const std::string& integ) { return glass_metal_box(integ, 64); };
     constexpr int kReps = 4;
     const BlockStats p =
         replicas(with("Integrator \"path\" \"integer maxdepth\" [ 8 ]"), 64, 700, kReps);

@@ -42,6 +42,23 @@ inline std::string cornell_box(const std::string& integrator, int res, bool inde
     return s;
 }
 
+/// The glass-and-metal Cornell box (tests/data/reference/cornell-box-glass-metal) at
+/// res x res with independent samples and `integrator` in place of its Integrator line.
+inline std::string glass_metal_box(const std::string& integrator, int res) {
+    std::string s = read_text(std::string(STERADIAN_SOURCE_DIR) +
+                              "/tests/data/reference/cornell-box-glass-metal/scene.pbrt");
+    replace_once(s, "\"integer xresolution\" [ 512 ] \"integer yresolution\" [ 512 ]",
+                 "\"integer xresolution\" [ " + std::to_string(res) +
+                     " ] \"integer yresolution\" [ " + std::to_string(res) + " ]");
+    replace_once(s, "Sampler \"zsobol\"", "Sampler \"independent\"");
+    const size_t i = s.find("Integrator \"path\"");
+    if (i == std::string::npos) {
+        ADD_FAILURE() << "the glass-and-metal box has no path Integrator line";
+        return s;
+    }
+    return s.substr(0, i) + integrator + s.substr(s.find('\n', i));
+}
+
 /// A render of scene text with the seed `seed` (files named in it resolve against scenes/).
 inline Rendered render_seeded(const std::string& text, int spp, uint64_t seed, int threads = 2,
                               RenderOptions ro = {},

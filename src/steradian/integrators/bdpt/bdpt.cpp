@@ -378,41 +378,12 @@ public:
                 // the stream of the later ones and of the collisions' choices.
                 const Float u = m_sampler->get_1d();
                 const Float uk = m_sampler->get_1d();
-                Pcg32 rng = tracking_rng(hash(uk, ray.o.x, ray.o.y, ray.o.z),
-                                         hash(ray.d.x, ray.d.y, ray.d.z));
-                bool scattered = false, terminated = false;
                 Point3 p_scatter;
                 Float g_scatter = 0;
-                const SampledSpectrum t_maj = sample_t_maj(
-                    m_scene.media[size_t(medium)], ray, found ? hit.t : kInfinity, u, rng,
-                    m_lambda,
-                    [&](Point3 p, const MediumProperties& mp, SampledSpectrum sigma_maj,
-                        SampledSpectrum tm) {
-                        // Absorption, real or null scattering, with the hero wavelength's
-                        // probabilities (the others weighted by their ratio to it).
-                        const Float p_absorb = mp.sigma_a[0] / sigma_maj[0];
-                        const Float p_real = mp.sigma_s[0] / sigma_maj[0];
-                        const Float um = rng.next_float();
-                        if (um < p_absorb) {
-                            terminated = true;
-                            return false;
-                        }
-                        if (um < p_absorb + p_real) {
-                            beta *= tm * mp.sigma_s / (tm[0] * mp.sigma_s[0]);
-                            p_scatter = p;
-                            g_scatter = mp.g;
-                            scattered = true;
-                            return false;
-                        }
-                        SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
-                        for (int i = 0; i < kSpectrumSamples; ++i)
-                            sigma_n[i] = std::max(sigma_n[i], Float(0));
-                        const Float pdf = tm[0] * sigma_n[0];
-                        beta = pdf > 0 ? beta * tm * sigma_n / pdf : SampledSpectrum(0);
-                        return !beta.is_zero();
-                    });
-                if (terminated || beta.is_zero() || beta.has_nonfinite()) break;
-                if (scattered) {
+                const FreeFlight fl = free_flight(m_scene, medium, ray, found ? hit.t : kInfinity,
+                                                  u, uk, m_lambda, beta, p_scatter, g_scatter);
+                if (fl == FreeFlight::Absorbed) break;
+                if (fl == FreeFlight::Scattered) {
                     Vertex v;
                     v.type = VertexType::Medium;
                     v.beta = beta;
@@ -436,8 +407,6 @@ public:
                     prev.pdf_rev = convert_density(cur, ps.p, prev);
                     continue;
                 }
-                beta *= t_maj / t_maj[0];
-                if (beta.is_zero() || beta.has_nonfinite()) break;
             }
             if (!found) {
                 if (mode == TransportMode::Radiance) {

@@ -1,5 +1,7 @@
 #include "steradian/integrators/path/medium_transport.h"
 
+#include <algorithm>
+
 #include "steradian/media/medium.h"
 #include "steradian/sampling/hash.h"
 #include "steradian/scene/scene.h"
@@ -13,6 +15,42 @@ int medium_after(const Scene& scene, const SurfaceHit& hit, Vec3 w, int current)
     const ShapeEntry& e = scene.shapes[size_t(hit.shape)];
     if (!e.medium_transition()) return current;
     return dot(w, hit.ng) > 0 ? e.medium_outside : e.medium_inside;
+}
+
+FreeFlight free_flight(const Scene& scene, int medium, const Ray& ray, Float t_max, Float u,
+                       Float uk, const SampledWavelengths& lambda, SampledSpectrum& beta,
+                       Point3& p, Float& g) {
+    Pcg32 rng = tracking_rng(hash(uk, ray.o.x, ray.o.y, ray.o.z), hash(ray.d.x, ray.d.y, ray.d.z));
+    bool scattered = false, absorbed = false;
+    const SampledSpectrum t_maj = sample_t_maj(
+        scene.media[size_t(medium)], ray, t_max, u, rng, lambda,
+        [&](Point3 pc, const MediumProperties& mp, SampledSpectrum sigma_maj, SampledSpectrum tm) {
+            // Absorption, real or null scattering, with the hero wavelength's probabilities.
+            const Float p_absorb = mp.sigma_a[0] / sigma_maj[0];
+            const Float p_real = mp.sigma_s[0] / sigma_maj[0];
+            const Float um = rng.next_float();
+            if (um < p_absorb) {
+                absorbed = true;
+                return false;
+            }
+            if (um < p_absorb + p_real) {
+                beta *= tm * mp.sigma_s / (tm[0] * mp.sigma_s[0]);
+                p = pc;
+                g = mp.g;
+                scattered = true;
+                return false;
+            }
+            SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
+            for (int i = 0; i < kSpectrumSamples; ++i) sigma_n[i] = std::max(sigma_n[i], Float(0));
+            const Float pdf = tm[0] * sigma_n[0];
+            beta = pdf > 0 ? beta * tm * sigma_n / pdf : SampledSpectrum(0);
+            return !beta.is_zero();
+        });
+    if (absorbed || beta.is_zero() || beta.has_nonfinite()) return FreeFlight::Absorbed;
+    if (scattered) return FreeFlight::Scattered;
+    beta *= t_maj / t_maj[0];
+    if (beta.is_zero() || beta.has_nonfinite()) return FreeFlight::Absorbed;
+    return FreeFlight::Passed;
 }
 
 SampledSpectrum shadow_transmittance(const Scene& scene, Ray ray, int medium, bool to_point,

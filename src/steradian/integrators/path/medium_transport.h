@@ -1,8 +1,8 @@
 #pragma once
 /// What the volumetric kernels share (integrators/path/volpath.cpp and the bidirectional
-/// kernels of integrators/bdpt/): the medium a ray is in after a surface, the random-number
-/// stream of a tracking loop, and the transmittance of a segment through interfaces and media
-/// by ratio tracking.
+/// kernels of integrators/bdpt/ and vcm/): the medium a ray is in after a surface, the
+/// random-number stream of a tracking loop, a free flight by delta tracking, and the
+/// transmittance of a segment through interfaces and media by ratio tracking.
 #include <cstdint>
 
 #include "steradian/core/math.h"
@@ -23,6 +23,20 @@ Pcg32 tracking_rng(uint64_t a, uint64_t b);
 /// The medium a ray leaving `hit` in direction w is in: the MediumInterface side w points to
 /// if the surface is a transition, else `current` (the medium the ray arrived in).
 int medium_after(const Scene& scene, const SurfaceHit& hit, Vec3 w, int current);
+
+/// How a free flight ends: the path's end (absorbed, or a weight that became zero or not
+/// finite), past the segment, or at a real scattering.
+enum class FreeFlight { Absorbed, Passed, Scattered };
+
+/// A free flight along `ray` in `medium` up to t_max by delta tracking against the medium's
+/// majorant (pbrt-v4's SampleT_maj, as the bidirectional walks take it): absorption ends the
+/// path, a real scattering is a medium vertex at p with phase asymmetry g, null collisions go
+/// on; the hero wavelength's probabilities choose and the others are weighted by their ratio
+/// to it (beta updated). u: the first flight; uk keys the stream of the later ones and of the
+/// collisions' choices.
+FreeFlight free_flight(const Scene& scene, int medium, const Ray& ray, Float t_max, Float u,
+                       Float uk, const SampledWavelengths& lambda, SampledSpectrum& beta,
+                       Point3& p, Float& g);
 
 /// Transmittance along a shadow ray that starts in `medium` (-1: vacuum): zero if a surface
 /// with a material blocks it, else the product over its segments (split at interfaces, which

@@ -271,10 +271,10 @@ public:
             Float g = 0;
             bool scattered = false;
             if (medium >= 0) {
-                const Flight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
+                const FreeFlight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
                                       beta, p_scatter, g);
-                if (fl == Flight::Absorbed) break;
-                scattered = fl == Flight::Scattered;
+                if (fl == FreeFlight::Absorbed) break;
+                scattered = fl == FreeFlight::Scattered;
             }
             std::optional<Bsdf> bsdf;
             if (!scattered) {
@@ -420,10 +420,10 @@ public:
             Float g = 0;
             bool scattered = false;
             if (medium >= 0) {
-                const Flight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
+                const FreeFlight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
                                       beta, p_scatter, g);
-                if (fl == Flight::Absorbed) break;
-                scattered = fl == Flight::Scattered;
+                if (fl == FreeFlight::Absorbed) break;
+                scattered = fl == FreeFlight::Scattered;
             }
             if (!scattered && !found) {
                 for (int li : m_scene.infinite_lights) {
@@ -592,48 +592,15 @@ private:
         dvcm = mis(1 / pdf_sa);
     }
 
-    enum class Flight { Absorbed, Passed, Scattered };
-
-    /// A free flight along `ray` (in `medium`) up to t_max by delta tracking against the
-    /// medium's majorant (pbrt-v4's SampleT_maj, as volpath's and bdpt's random walks):
-    /// absorption ends the path, a real scattering is a medium vertex (p, phase asymmetry
-    /// g), null collisions go on; the hero wavelength's probabilities choose, the others are
-    /// weighted by their ratio to it. Two sampler dimensions: the first flight and the key
-    /// of the stream of the rest.
-    Flight fly(const Ray& ray, int medium, Float t_max, Sampler& sampler,
-               const SampledWavelengths& lambda, SampledSpectrum& beta, Point3& p, Float& g) const {
+    /// A free flight along `ray` (in `medium`) up to t_max (medium_transport.h's
+    /// free_flight), with two sampler dimensions: the first flight and the key of the stream
+    /// of the rest.
+    FreeFlight fly(const Ray& ray, int medium, Float t_max, Sampler& sampler,
+                   const SampledWavelengths& lambda, SampledSpectrum& beta, Point3& p,
+                   Float& g) const {
         const Float u = sampler.get_1d();
         const Float uk = sampler.get_1d();
-        Pcg32 rng = tracking_rng(hash(uk, ray.o.x, ray.o.y, ray.o.z), hash(ray.d.x, ray.d.y, ray.d.z));
-        bool scattered = false, absorbed = false;
-        const SampledSpectrum t_maj = sample_t_maj(
-            m_scene.media[size_t(medium)], ray, t_max, u, rng, lambda,
-            [&](Point3 pc, const MediumProperties& mp, SampledSpectrum sigma_maj, SampledSpectrum tm) {
-                const Float p_absorb = mp.sigma_a[0] / sigma_maj[0];
-                const Float p_real = mp.sigma_s[0] / sigma_maj[0];
-                const Float um = rng.next_float();
-                if (um < p_absorb) {
-                    absorbed = true;
-                    return false;
-                }
-                if (um < p_absorb + p_real) {
-                    beta *= tm * mp.sigma_s / (tm[0] * mp.sigma_s[0]);
-                    p = pc;
-                    g = mp.g;
-                    scattered = true;
-                    return false;
-                }
-                SampledSpectrum sigma_n = sigma_maj - mp.sigma_a - mp.sigma_s;
-                for (int i = 0; i < kSpectrumSamples; ++i) sigma_n[i] = std::max(sigma_n[i], Float(0));
-                const Float pdf = tm[0] * sigma_n[0];
-                beta = pdf > 0 ? beta * tm * sigma_n / pdf : SampledSpectrum(0);
-                return !beta.is_zero();
-            });
-        if (absorbed || beta.is_zero() || beta.has_nonfinite()) return Flight::Absorbed;
-        if (scattered) return Flight::Scattered;
-        beta *= t_maj / t_maj[0];
-        if (beta.is_zero() || beta.has_nonfinite()) return Flight::Absorbed;
-        return Flight::Passed;
+        return free_flight(m_scene, medium, ray, t_max, u, uk, lambda, beta, p, g);
     }
 
     /// The transmittance along a shadow ray starting in `medium` (pbrt-v4's Integrator::Tr
