@@ -8,7 +8,7 @@
 # a*b+c into FMAs in other places than gcc does, and the unit tests that compare two code
 # paths bit for bit (a spectrum sampled against evaluated, the cloud density against its
 # definition term by term) hold for uncontracted arithmetic.
-# In CI (CI=true, set by .ci/run) it then fuzzes every input reader for 30 s each
+# In CI (CI=true, set by .ci/run) it then fuzzes every input reader for 20 s each
 # (scripts/fuzz.sh, reusing that build; FUZZ_SECONDS overrides, 0 skips).
 # Usage: scripts/test.sh [--no-asan]
 set -euo pipefail
@@ -26,6 +26,6 @@ if [ "${1:-}" != "--no-asan" ]; then
     ctest --preset fuzz -j "$jobs" -L unit
 fi
 
-if [ "${CI:-}" = "true" ] && [ "${FUZZ_SECONDS:-30}" != 0 ]; then
-  scripts/fuzz.sh "${FUZZ_SECONDS:-30}"
+if [ "${CI:-}" = "true" ] && [ "${FUZZ_SECONDS:-20}" != 0 ]; then
+  scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
 fi

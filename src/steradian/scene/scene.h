@@ -51,6 +51,11 @@ struct RadiosityParams {
     bool interpolate = false;    ///< read the solution interpolated from patch corners
     bool hierarchical = true;    ///< solver: hierarchical radiosity (false: dense matrix, CG)
     Float link_error = 2e-3f;    ///< hierarchical: a link's largest estimated error (fraction)
+    /// Secondary gather: a gather ray whose diffuse hit is nearer than this many times the
+    /// hit patch's size (the square root of its area) computes the light there (direct light
+    /// and one more gather ray) instead of reading the patch's constant (0: never;
+    /// docs/radiosity.md says what it gains and what it costs).
+    Float gather_distance = 0;
 };
 
 /// pbrt-v4's "sppm" (SPPMIntegrator::Create): photons traced per iteration (<= 0: one per

@@ -38,7 +38,8 @@ public:
                       : limits.max_depth < 0                      ? INT_MAX
                                                                   : limits.max_depth),
           m_use_nee(m_cfg.strategy != LightStrategy::BsdfOnly),
-          m_use_bsdf_hits(m_cfg.strategy != LightStrategy::LightOnly),
+          m_use_bsdf_hits(m_cfg.strategy != LightStrategy::LightOnly &&
+                          !limits.light_sample_only),
           m_mctx(scene.material_context()) {}
 
     SampledSpectrum L{0};
@@ -54,6 +55,14 @@ public:
     void record_visible(VisibleSurface* v) { m_visible = v; }
     /// Ends the path at SPPM's visible point, recorded in `vp` (path_li_visible_point).
     void stop_at_visible_point(VisiblePoint* vp) { m_vp = vp; }
+
+    /// The light sample of a first vertex alone (PathLimits::light_sample_only).
+    void sample_light_only(const SurfaceHit& hit, const Bsdf& bsdf) {
+        if (m_depth++ == m_max_depth) return;
+        m_prev_ctx = LightSampleContext{hit.p, hit.p_error, hit.ng};
+        if (m_use_nee && bsdf.has_non_specular() && !m_scene.light_sampler.empty())
+            sample_light(hit, bsdf, m_prev_ctx);
+    }
 
     /// Follows `ray` until the path ends.
     void trace(Ray ray) {
@@ -344,6 +353,10 @@ SampledSpectrum path_lo(const Scene& scene, const SurfaceHit& vertex, const Bsdf
     if (scene.integrator.volumetric)
         return volpath_lo(scene, vertex, bsdf, medium, lambda, sampler, counters, limits);
     PathState path(scene, lambda, sampler, counters, limits);
+    if (limits.light_sample_only) {
+        path.sample_light_only(vertex, bsdf);
+        return path.L;
+    }
     Ray ray;
     if (path.scatter(vertex, bsdf, ray)) path.trace(ray);
     return path.L;

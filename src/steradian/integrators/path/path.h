@@ -33,6 +33,9 @@ struct PathLimits {
     /// Largest number of scattering vertices: kSceneDepth = the integrator's maxdepth,
     /// any other negative value = unlimited (Russian roulette ends the path).
     int max_depth = kSceneDepth;
+    /// path_lo only (surface path tracer): the vertex's direct light by one light sample
+    /// alone, weighted 1/pdf, with no BSDF sample and no continuation (one shadow ray).
+    bool light_sample_only = false;
 };
 
 /// The medium a path starts in when the caller does not name one: the camera's

@@ -33,13 +33,58 @@ bool continue_path(const SurfaceHit& hit, const Bsdf& bsdf, Ray& ray,
     return !beta.is_zero() && !beta.has_nonfinite();
 }
 
-}  // namespace
+/// Levels of secondary gathers: one (a second level moved the office's worst point from
+/// -0.94 % to -0.83 % for 16 % more gather time).
+constexpr int kLevels = 1;
 
-SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& sol, Ray ray,
-                                 SampledWavelengths& lambda, Sampler& sampler,
-                                 PathCounters& counters, int max_depth) {
+/// What a meter's gather ray may return instead of a spectrum: where it first meets a
+/// diffuse surface (no scattering before, so nothing else depends on the wavelengths), the
+/// solution's exitance integrated against the meter's spectral weight exactly.
+struct WeightedRead {
+    MeterWeighting weighting;
+    double value = 0;  ///< weighted radiance (exitance / pi), added to the spectrum's estimate
+};
+
+SampledSpectrum gather(const Scene& scene, const RadiositySolution& sol, Ray ray,
+                       SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                       int max_depth, int secondary, WeightedRead* weighted = nullptr);
+
+/// Light leaving a diffuse, meshed hit towards hit.wo, emission aside: indirect by one
+/// gather ray (Lambert's sample: f |cos| / pdf = R), itself allowed `secondary` more levels
+/// of secondary gathers; direct light as the path tracer's first vertex (one light and one
+/// BSDF sample, MIS) at a camera's vertex, by the light sample alone (`light_only`) at a
+/// secondary gather's, whose gather ray then does not look for emission (one ray fewer).
+SampledSpectrum diffuse_vertex(const Scene& scene, const RadiositySolution& sol,
+                               const SurfaceHit& hit, const Bsdf& bsdf,
+                               SampledWavelengths& lambda, Sampler& sampler,
+                               PathCounters& counters, int max_depth, int secondary,
+                               bool light_only) {
+    SampledSpectrum L(0);
+    const Point2 ug = sampler.get_2d();
+    if (auto bs = bsdf.sample(hit.wo, 0, ug)) {
+        const SampledSpectrum Li = gather(scene, sol, spawn_ray(hit, bs->wi), lambda, sampler,
+                                          counters, max_depth, secondary);
+        L += bs->f * kPi * Li;
+    }
+    PathLimits lim;
+    lim.max_depth = 1;
+    lim.light_sample_only = light_only;
+    return L + path_lo(scene, hit, bsdf, lambda, sampler, counters, lim);
+}
+
+/// The gather proper (radiosity_gather). While `secondary` > 0, a diffuse hit nearer than
+/// gather_distance x its patch's size is not read from the solution but computed by
+/// diffuse_vertex, whose own gather ray then reads the solution (a secondary gather): a
+/// patch's constant is a poor estimate of the light at a point close to it (corners, the
+/// underside of a shelf), while farther patches subtend small solid angles and their errors
+/// average out.
+SampledSpectrum gather(const Scene& scene, const RadiositySolution& sol, Ray ray,
+                       SampledWavelengths& lambda, Sampler& sampler, PathCounters& counters,
+                       int max_depth, int secondary, WeightedRead* weighted) {
+    const double near = secondary > 0 ? double(scene.integrator.radiosity.gather_distance) : 0;
     SampledSpectrum L(0), beta(1);
     SurfaceHit hit;
+    auto is_near = [&](double area) { return length(hit.p - ray.o) < near * std::sqrt(area); };
     const MaterialContext mctx = scene.material_context();
     int bounces = 0, crossings = 0;
     while (true) {
@@ -52,7 +97,23 @@ SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& so
         }
         if (bounces > 0 && hit.light >= 0) L += beta * emitted(scene, hit, lambda);
         SampledSpectrum B;
-        if (hit.material >= 0 && sol.exitance(hit, lambda, B)) return L + beta * B * kInvPi;
+        double area = 0;
+        if (weighted && bounces == 0 && hit.material >= 0 &&
+            sol.weighted_exitance(hit, weighted->weighting, weighted->value, &area)) {
+            weighted->value *= kInvPi;
+            if (!is_near(area)) return L;
+            weighted->value = 0;  // computed at the hit instead (below)
+        }
+        if (hit.material >= 0 && sol.exitance(hit, lambda, B, &area)) {
+            if (is_near(area)) {
+                const std::optional<Bsdf> bsdf =
+                    make_bsdf(scene.materials[size_t(hit.material)], mctx, hit, lambda);
+                if (bsdf && std::holds_alternative<LambertLobe>(bsdf->lobe()))
+                    return L + beta * diffuse_vertex(scene, sol, hit, *bsdf, lambda, sampler,
+                                                     counters, max_depth, secondary - 1, true);
+            }
+            return L + beta * B * kInvPi;
+        }
         std::optional<Bsdf> bsdf =
             hit.material >= 0 ? make_bsdf(scene.materials[size_t(hit.material)], mctx, hit, lambda)
                               : std::nullopt;
@@ -64,6 +125,14 @@ SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& so
         if (bounces++ == max_depth) return L;
         if (!continue_path(hit, *bsdf, ray, beta, sampler)) return L;
     }
+}
+
+}  // namespace
+
+SampledSpectrum radiosity_gather(const Scene& scene, const RadiositySolution& sol, Ray ray,
+                                 SampledWavelengths& lambda, Sampler& sampler,
+                                 PathCounters& counters, int max_depth) {
+    return gather(scene, sol, ray, lambda, sampler, counters, max_depth, kLevels);
 }
 
 double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, const Meter& m,
@@ -92,9 +161,10 @@ double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, 
     double e = 0;
     if (component != MeterComponent::Direct) {
         const Vec3 wi = frame.to_world(sample_cosine_hemisphere(ug));
-        SampledSpectrum Li = radiosity_gather(scene, sol, spawn_ray(v, wi), lambda, sampler,
-                                              counters, scene.integrator.radiosity.max_depth);
-        e += kPi * meter_weigh(m, Li, lambda);
+        WeightedRead read{m.weighting};
+        SampledSpectrum Li = gather(scene, sol, spawn_ray(v, wi), lambda, sampler, counters,
+                                    scene.integrator.radiosity.max_depth, kLevels, &read);
+        e += kPi * (meter_weigh(m, Li, lambda) + read.value);
     }
     if (component != MeterComponent::Indirect) {
         Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
@@ -129,19 +199,8 @@ SampledSpectrum radiosity_li_from(const Scene& scene, const RadiositySolution& s
             if (++crossings > 256) return L;
             ray = spawn_ray(hit, ray.d);
         } else if (sol.meshed(hit) && std::holds_alternative<LambertLobe>(bsdf->lobe())) {
-            // Direct light exactly as the path tracer's first vertex; indirect by one gather
-            // ray (Lambert's sample: f |cos| / pdf = R).
-            const Point2 ug = sampler.get_2d();
-            auto bs = bsdf->sample(hit.wo, 0, ug);
-            if (bs) {
-                SampledSpectrum Li = radiosity_gather(scene, sol, spawn_ray(hit, bs->wi), lambda,
-                                                      sampler, counters, max_depth);
-                L += beta * bs->f * kPi * Li;
-            }
-            PathLimits lim;
-            lim.max_depth = 1;
-            L += beta * path_lo(scene, hit, *bsdf, lambda, sampler, counters, lim);
-            return L;
+            return L + beta * diffuse_vertex(scene, sol, hit, *bsdf, lambda, sampler, counters,
+                                             max_depth, kLevels, false);
         } else {
             if (bounces++ == max_depth) return L;
             if (!continue_path(hit, *bsdf, ray, beta, sampler)) return L;

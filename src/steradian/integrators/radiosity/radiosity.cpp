@@ -207,12 +207,69 @@ int RadiositySolution::leaf_at(const SurfaceHit& h, double* ob1, double* ob2) co
 
 bool RadiositySolution::meshed(const SurfaceHit& h) const { return leaf_at(h) >= 0; }
 
-bool RadiositySolution::exitance(const SurfaceHit& h, const SampledWavelengths& lambda,
-                                 SampledSpectrum& B) const {
+bool RadiositySolution::weighted_exitance(const SurfaceHit& h, MeterWeighting w, double& Bw,
+                                          double* area) const {
     double b1 = 0, b2 = 0;
     const int leaf = leaf_at(h, &b1, &b2);
     if (leaf < 0) return false;
     const Patch& p = m_patches[size_t(leaf)];
+    if (area) *area = p.area;
+    const int u = p.unknown[ddot(DVec3(h.wo), p.n) >= 0 ? 0 : 1];
+    Bw = 0;
+    if (u < 0) return true;
+    const size_t iw = size_t(w);
+    if (m_Bv.empty()) {
+        Bw = m_Bw[size_t(u) * 3 + iw];
+    } else {
+        const double* v = &m_Bw[size_t(u) * 9];
+        Bw = std::max(0.0, 1 - b1 - b2) * v[iw] + b1 * v[3 + iw] + b2 * v[6 + iw];
+    }
+    return true;
+}
+
+void RadiositySolution::weigh_bands() {
+    // Per weighting, the integral of the weight times each band's hat function (the linear
+    // interpolation exitance() applies between band centres; constant beyond the first and
+    // last), by the midpoint rule at 0.05 nm over the sampled range 360-830 nm.
+    std::array<std::array<double, kBands>, 3> W{};
+    const MeterWeighting kinds[3] = {MeterWeighting::Photopic, MeterWeighting::Scotopic,
+                                     MeterWeighting::Radiometric};
+    static_assert(int(MeterWeighting::Photopic) < 3 && int(MeterWeighting::Scotopic) < 3 &&
+                  int(MeterWeighting::Radiometric) < 3);
+    constexpr double dl = 0.05;
+    for (const MeterWeighting kind : kinds) {
+        Meter m;
+        m.weighting = kind;
+        auto& wk = W[size_t(kind)];
+        for (double l = kLambdaMin + dl / 2; l < kLambdaMax; l += dl) {
+            const double wl = double(m.spectral_weight(Float(l))) * dl;
+            const double t = (l - radiosity::kFirstNm) / radiosity::kStepNm;
+            const int k = std::clamp(int(std::floor(t)), 0, kBands - 2);
+            const double f = std::clamp(t - k, 0.0, 1.0);
+            wk[size_t(k)] += (1 - f) * wl;
+            wk[size_t(k) + 1] += f * wl;
+        }
+    }
+    const size_t N = m_B.size() / kBands, C = m_Bv.empty() ? 1 : 3;
+    m_Bw.assign(N * C * 3, 0.0);
+    for (size_t u = 0; u < N; ++u)
+        for (size_t c = 0; c < C; ++c) {
+            const float* b = m_Bv.empty() ? &m_B[u * kBands] : &m_Bv[(u * 3 + c) * kBands];
+            for (size_t iw = 0; iw < 3; ++iw) {
+                double sum = 0;
+                for (int k = 0; k < kBands; ++k) sum += W[iw][size_t(k)] * double(b[k]);
+                m_Bw[(u * C + c) * 3 + iw] = sum;
+            }
+        }
+}
+
+bool RadiositySolution::exitance(const SurfaceHit& h, const SampledWavelengths& lambda,
+                                 SampledSpectrum& B, double* area) const {
+    double b1 = 0, b2 = 0;
+    const int leaf = leaf_at(h, &b1, &b2);
+    if (leaf < 0) return false;
+    const Patch& p = m_patches[size_t(leaf)];
+    if (area) *area = p.area;
     const int side = ddot(DVec3(h.wo), p.n) >= 0 ? 0 : 1;
     const int u = p.unknown[side];
     B = SampledSpectrum(0);
@@ -960,6 +1017,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                         float(sum[v * kBands + size_t(k)] / area[v]);
             }
     }
+    S.weigh_bands();
     st.rays = rays;
     const auto t_end = Clock::now();
     auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };

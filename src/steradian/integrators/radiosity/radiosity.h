@@ -64,7 +64,15 @@ public:
     };
     /// Reflected exitance at a hit of the scene, at the wavelengths lambda; false if the hit
     /// is not on a meshed (diffuse) surface.
-    bool exitance(const SurfaceHit& h, const SampledWavelengths& lambda, SampledSpectrum& B) const;
+    /// `area`, if given, receives the area of the hit's patch.
+    bool exitance(const SurfaceHit& h, const SampledWavelengths& lambda, SampledSpectrum& B,
+                  double* area = nullptr) const;
+    /// The exitance at a hit weighted by a meter's spectral weight (Meter::spectral_weight)
+    /// and integrated over 360-830 nm exactly, the bands read linearly between them as
+    /// exitance() reads them: what meter_weigh() of exitance() estimates from four sampled
+    /// wavelengths, without their variance. False if the hit is not on a meshed surface.
+    bool weighted_exitance(const SurfaceHit& h, MeterWeighting w, double& Bw,
+                           double* area = nullptr) const;
     /// Whether a hit's surface is meshed (diffuse).
     bool meshed(const SurfaceHit& h) const;
 
@@ -108,6 +116,10 @@ private:
     std::vector<Patch> m_patches;
     std::vector<float> m_B;   ///< unknowns x kBands
     std::vector<float> m_Bv;  ///< unknowns x 3 corners x kBands (empty: not interpolated)
+    /// Per unknown (x 3 corners when interpolated) x 3 weightings: the weighted exitance.
+    std::vector<double> m_Bw;
+    /// Fills m_Bw from m_B and m_Bv.
+    void weigh_bands();
     RadiosityStats m_stats;
 };
 

@@ -312,6 +312,9 @@ void Builder::build_integrator(const EntityDesc& e) {
             throw_error(e.loc, "unknown \"solver\" \"{}\": expected hierarchical or matrix",
                         solver);
         r.link_error = ps.get_float("linkerror", r.link_error);
+        r.gather_distance = ps.get_float("gatherdistance", r.gather_distance);
+        if (!(r.gather_distance >= 0) || !std::isfinite(r.gather_distance))
+            throw_error(e.loc, "\"gatherdistance\" must be >= 0 (0: no secondary gather)");
         if (!(r.link_error > 0 && r.link_error < 1))
             throw_error(e.loc, "\"linkerror\" must be in (0, 1)");
         if (!(r.patch_size >= 0) || !std::isfinite(r.patch_size))
