@@ -146,7 +146,12 @@ Shape "trianglemesh" "point3 P" [ -10 -10 0  10 -10 0  10 10 0  -10 10 0 ] "inte
                 expected_total += e;
                 se2 += sqr(got.se[b]);
             }
-        EXPECT_LT(ms, 2.5) << integ;
+        // The mean of 16 squares of t(11): mean 1.22, standard deviation 0.52, but heavy-
+        // tailed: it exceeds 2.5 with probability 2.2 % (this bound before: the sanitizer
+        // build's vcm drew 3.14) and 4 with probability 8e-4 (simulated, 2e6 draws). A bias
+        // of 1.7 standard errors in every block reaches 4; one the image total would show
+        // sooner is checked next.
+        EXPECT_LT(ms, 4.0) << integ;
         EXPECT_NEAR(total, expected_total, 5 * std::sqrt(se2)) << integ;
         EXPECT_LT(5 * std::sqrt(se2), 0.03 * expected_total) << integ;
     }

@@ -85,6 +85,39 @@ TEST_P(RadiosityCase5_8, FaceAveragedIndirectIlluminance) {
 
 INSTANTIATE_TEST_SUITE_P(Reflectances, RadiosityCase5_8, ::testing::Values(0.2, 0.5, 0.8, 0.95));
 
+// The secondary gather's own estimate (direct light by one light sample at the gather ray's
+// hit, the rest by one more gather ray reading the solution) computing every first hit
+// ("gatherdistance" far beyond the room): the floor's average indirect illuminance of case
+// 5.8 (rho 0.5) is still rho Phi / (S (1 - rho)) within the solution's 0.2 % plus three
+// standard errors. A secondary estimate that lost or double-counted the direct light at the
+// hit (a quarter of the light leaving it here) would be off by percents.
+TEST(Radiosity, SecondaryGatherEverywhereKeepsCase5_8) {
+    Scene s = load("case-5.8-rho0.5.pbrt");
+    s.integrator.radiosity.gather_distance = 100;
+    RadiosityParams prm;
+    prm.max_patches = 1024;
+    auto sol = solve_radiosity(s, prm, 2);
+    MeasureResult r = measure_radiosity(s, *sol, 1e-3);
+    const double expected = 0.5 * 10000 / (96 * 0.5);
+    const MeterReading& ind = r.readings[0];
+    EXPECT_TRUE(r.all_converged);
+    EXPECT_NEAR(ind.avg, expected, 2e-3 * expected + 3 * ind.avg_stderr);
+}
+
+TEST(Radiosity, RefusesANegativeGatherDistance) {
+    try {
+        build_scene(parse_pbrt_string("Integrator \"radiosity\" \"float gatherdistance\" [ -1 ]\n"
+                                      "WorldBegin\n",
+                                      "<test>"),
+                    {});
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("<test>:1"), std::string::npos) << what;
+        EXPECT_NE(what.find("gatherdistance"), std::string::npos) << what;
+    }
+}
+
 // 5.3: the room is black, so the radiosity pass has nothing to solve and every reading is
 // direct light, within 0.1 % of the published values.
 TEST(Radiosity, Case5_3AreaSourceInBlackRoom) {
