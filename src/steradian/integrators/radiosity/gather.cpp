@@ -164,7 +164,7 @@ double radiosity_meter_sample(const Scene& scene, const RadiositySolution& sol, 
         WeightedRead read{m.weighting};
         SampledSpectrum Li = gather(scene, sol, spawn_ray(v, wi), lambda, sampler, counters,
                                     scene.integrator.radiosity.max_depth, kLevels, &read);
-        e += kPi * (meter_weigh(m, Li, lambda) + read.value);
+        e += kPi * ((Li.is_zero() ? 0 : meter_weigh(m, Li, lambda)) + read.value);
     }
     if (component != MeterComponent::Indirect) {
         Bsdf receiver(frame, dir, LambertLobe{SampledSpectrum(1)});
