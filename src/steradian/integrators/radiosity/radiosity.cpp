@@ -207,14 +207,21 @@ int RadiositySolution::leaf_at(const SurfaceHit& h, double* ob1, double* ob2) co
 
 bool RadiositySolution::meshed(const SurfaceHit& h) const { return leaf_at(h) >= 0; }
 
-bool RadiositySolution::weighted_exitance(const SurfaceHit& h, MeterWeighting w, double& Bw,
-                                          double* area) const {
-    double b1 = 0, b2 = 0;
+bool RadiositySolution::side_at(const SurfaceHit& h, int& u, double& b1, double& b2,
+                                double* area) const {
     const int leaf = leaf_at(h, &b1, &b2);
     if (leaf < 0) return false;
     const Patch& p = m_patches[size_t(leaf)];
     if (area) *area = p.area;
-    const int u = p.unknown[ddot(DVec3(h.wo), p.n) >= 0 ? 0 : 1];
+    u = p.unknown[ddot(DVec3(h.wo), p.n) >= 0 ? 0 : 1];
+    return true;
+}
+
+bool RadiositySolution::weighted_exitance(const SurfaceHit& h, MeterWeighting w, double& Bw,
+                                          double* area) const {
+    double b1 = 0, b2 = 0;
+    int u = -1;
+    if (!side_at(h, u, b1, b2, area)) return false;
     Bw = 0;
     if (u < 0) return true;
     const size_t iw = size_t(w);
@@ -266,12 +273,8 @@ void RadiositySolution::weigh_bands() {
 bool RadiositySolution::exitance(const SurfaceHit& h, const SampledWavelengths& lambda,
                                  SampledSpectrum& B, double* area) const {
     double b1 = 0, b2 = 0;
-    const int leaf = leaf_at(h, &b1, &b2);
-    if (leaf < 0) return false;
-    const Patch& p = m_patches[size_t(leaf)];
-    if (area) *area = p.area;
-    const int side = ddot(DVec3(h.wo), p.n) >= 0 ? 0 : 1;
-    const int u = p.unknown[side];
+    int u = -1;
+    if (!side_at(h, u, b1, b2, area)) return false;
     B = SampledSpectrum(0);
     if (u < 0) return true;
     // Linear in the patch from its corners' values (Gouraud's smooth shading of a radiosity

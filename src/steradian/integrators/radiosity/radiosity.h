@@ -98,6 +98,9 @@ private:
                                                              int threads);
     /// The leaf patch a hit lies on (-1: none), and the hit's barycentrics (b1, b2) in it.
     int leaf_at(const SurfaceHit& h, double* b1 = nullptr, double* b2 = nullptr) const;
+    /// The patch side a hit sees (false: not on a meshed surface): its unknown u (-1: a side
+    /// outside the system), the hit's barycentrics in the patch and, if asked, its area.
+    bool side_at(const SurfaceHit& h, int& u, double& b1, double& b2, double* area) const;
     struct Node {
         int child = -1;  ///< first of four children, or -1 (leaf)
         int patch = -1;  ///< leaf: index into m_patches

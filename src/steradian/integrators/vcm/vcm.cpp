@@ -265,29 +265,13 @@ public:
                                     m_scene.light_media[size_t(li)].outside, les->ray.d);
         while (true) {
             SurfaceHit hit;
-            ++counters.rays;
-            const bool found = m_scene.intersect(ray, hit);
+            std::optional<Bsdf> bsdf;
             Point3 p_scatter;
             Float g = 0;
-            bool scattered = false;
-            if (medium >= 0) {
-                const FreeFlight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
-                                      beta, p_scatter, g);
-                if (fl == FreeFlight::Absorbed) break;
-                scattered = fl == FreeFlight::Scattered;
-            }
-            std::optional<Bsdf> bsdf;
-            if (!scattered) {
-                if (!found) break;
-                if (hit.material >= 0)
-                    bsdf = make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda);
-                if (!bsdf) {
-                    if (++crossings > 256) break;
-                    medium = medium_after(m_scene, hit, ray.d, medium);
-                    ray = spawn_ray(hit, ray.d);
-                    continue;
-                }
-            }
+            const Next next = next_vertex(ray, medium, crossings, hit, bsdf, p_scatter, g, sampler,
+                                          lambda, beta, counters);
+            if (next == Next::End || next == Next::Escaped) break;
+            const bool scattered = next == Next::Medium;
             ++length;
             // The vertex: a surface, or a scattering in the medium (no normal, no cosine).
             const Point3 p = scattered ? p_scatter : hit.p;
@@ -414,18 +398,14 @@ public:
         int medium = m_scene.camera_medium;
         while (true) {
             SurfaceHit hit;
-            ++counters.rays;
-            const bool found = m_scene.intersect(ray, hit);
+            std::optional<Bsdf> bsdf;
             Point3 p_scatter;
             Float g = 0;
-            bool scattered = false;
-            if (medium >= 0) {
-                const FreeFlight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
-                                      beta, p_scatter, g);
-                if (fl == FreeFlight::Absorbed) break;
-                scattered = fl == FreeFlight::Scattered;
-            }
-            if (!scattered && !found) {
+            const Next next = next_vertex(ray, medium, crossings, hit, bsdf, p_scatter, g, sampler,
+                                          lambda, beta, counters);
+            if (next == Next::End) break;
+            const bool scattered = next == Next::Medium;
+            if (next == Next::Escaped) {
                 for (int li : m_scene.infinite_lights) {
                     const Light& l = m_scene.lights[size_t(li)];
                     Float pdf_sa = 0;
@@ -442,17 +422,6 @@ public:
                     add(beta * le * w, false);
                 }
                 break;
-            }
-            std::optional<Bsdf> bsdf;
-            if (!scattered) {
-                if (hit.material >= 0)
-                    bsdf = make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda);
-                if (!bsdf) {
-                    if (++crossings > 256) break;
-                    medium = medium_after(m_scene, hit, ray.d, medium);
-                    ray = spawn_ray(hit, ray.d);
-                    continue;
-                }
             }
             ++length;
             CameraVertex cv;
@@ -590,6 +559,39 @@ private:
         dvc = g * (dvc * mis(rev) + m_vc * dvcm + (mergeable ? m_vm_factor : 0));
         dvm = g * (dvm * mis(rev) + m_vc * dvcm * m_vc_factor + (mergeable ? 1 : 0));
         dvcm = mis(1 / pdf_sa);
+    }
+
+    /// Where a walk's next vertex lies: none (absorbed in a medium, or too many interfaces),
+    /// none because the ray leaves the scene, a scattering in a medium, or a surface.
+    enum class Next { End, Escaped, Medium, Surface };
+
+    /// Follows `ray` (in `medium`) to the walk's next vertex, passing through interfaces
+    /// (surfaces without a material; `medium` and `crossings` updated): in a medium, delta
+    /// tracking may end the walk or scatter at p_scatter (asymmetry g) before the next
+    /// surface; else `hit` is that surface and `bsdf` its BSDF. Both walks (light and camera)
+    /// step with it.
+    Next next_vertex(Ray& ray, int& medium, int& crossings, SurfaceHit& hit,
+                     std::optional<Bsdf>& bsdf, Point3& p_scatter, Float& g, Sampler& sampler,
+                     SampledWavelengths& lambda, SampledSpectrum& beta,
+                     PathCounters& counters) const {
+        while (true) {
+            hit = SurfaceHit{};
+            ++counters.rays;
+            const bool found = m_scene.intersect(ray, hit);
+            if (medium >= 0) {
+                const FreeFlight fl = fly(ray, medium, found ? hit.t : kInfinity, sampler, lambda,
+                                          beta, p_scatter, g);
+                if (fl == FreeFlight::Absorbed) return Next::End;
+                if (fl == FreeFlight::Scattered) return Next::Medium;
+            }
+            if (!found) return Next::Escaped;
+            if (hit.material >= 0)
+                bsdf = make_bsdf(m_scene.materials[size_t(hit.material)], m_mctx, hit, lambda);
+            if (bsdf) return Next::Surface;
+            if (++crossings > 256) return Next::End;
+            medium = medium_after(m_scene, hit, ray.d, medium);
+            ray = spawn_ray(hit, ray.d);
+        }
     }
 
     /// A free flight along `ray` (in `medium`) up to t_max (medium_transport.h's
