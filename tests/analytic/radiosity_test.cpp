@@ -12,6 +12,9 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <numbers>
+
+#include <fmt/format.h>
 
 #include "steradian/core/error.h"
 #include "steradian/integrators/measure.h"
@@ -323,6 +326,173 @@ TEST(Radiosity, OfficeWorkingPlaneAgreesWithThePathTracer) {
         EXPECT_NEAR(r.values[i], p.values[i], 0.01 * p.values[i] + 3 * se);
     }
     EXPECT_NEAR(r.avg, p.avg, 3e-3 * p.avg + 3 * std::hypot(r.avg_stderr, p.avg_stderr));
+}
+
+}  // namespace
+}  // namespace sr::test
+
+namespace sr::test {
+namespace {
+
+// Curved shapes in the radiosity pass: an integrating sphere. Inside a diffuse sphere of
+// area A and reflectance rho lit by a source of flux Phi anywhere inside it, the form factor
+// from any point of the wall to a piece dA of it is dA / A, so the indirect irradiance at
+// every point of the wall is the same, rho Phi / (A (1 - rho)), whatever the source's
+// position (the integrating sphere's equation; e.g. Ohno, "Integrating sphere simulation",
+// J. Illum. Eng. Soc. 23 (1994)). The meters sit 0.1 mm inside the wall (R = 2 m), facing
+// inwards, at points the off-centre source lights very differently. The sphere is meshed in
+// its (u, v) parameters; as an object instance, rotated and moved, the same must hold.
+class RadiosityIntegratingSphere : public ::testing::TestWithParam<bool> {};
+
+TEST_P(RadiosityIntegratingSphere, WallIndirectIlluminanceIsUniform) {
+    const bool instanced = GetParam();
+    const double R = 2, rho = 0.5, phi = 10000;
+    std::string pts, ns;
+    const double dirs[6][3] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {-0.6, 0.8, 0}, {0.48, 0.6, -0.64}};
+    for (const auto& d : dirs) {
+        pts += fmt::format(" {} {} {}", 0.99995 * R * d[0], 0.99995 * R * d[1], 0.99995 * R * d[2]);
+        ns += fmt::format(" {} {} {}", -d[0], -d[1], -d[2]);
+    }
+    const std::string sphere = fmt::format(R"(Material "diffuse" "spectrum reflectance" [ 360 {0} 830 {0} ]
+Shape "sphere" "float radius" [ {1} ]
+)", rho, R);
+    const std::string world =
+        instanced ? fmt::format(R"(ObjectBegin "ball"
+Translate 0 0 5
+{}ObjectEnd
+AttributeBegin
+  Rotate 30 1 1 0
+  Translate 0 0 -5
+  ObjectInstance "ball"
+AttributeEnd
+)", sphere)
+                  : sphere;
+    const std::string text = fmt::format(R"(Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ] "string filename" "x.exr"
+Integrator "radiosity" "integer maxpatches" [ 1024 ]
+WorldBegin
+{}AttributeBegin
+  Translate 0.6 -0.4 0.3
+  LightSource "point" "float power" [ {} ]
+AttributeEnd
+Meter "illuminance" "string name" "wall" "string component" "indirect" "point3 p" [{}] "normal n" [{}]
+)", world, phi, pts, ns);
+    Scene s = build_scene(parse_pbrt_string(text, "<test>"), {});
+    std::string why;
+    ASSERT_TRUE(radiosity_models_exactly(s, &why)) << why;
+    auto sol = solve_radiosity(s, s.integrator.radiosity, 2);
+    EXPECT_TRUE(sol->stats().notes.empty()) << sol->stats().notes.front();
+    // Only the inside is lit: the outside's sides are not in the system.
+    EXPECT_EQ(sol->stats().unknowns, sol->stats().patches);
+    // The source is enclosed: the reflected flux is rho Phi / (1 - rho) exactly.
+    EXPECT_NEAR(reflected_flux(*sol), rho * phi / (1 - rho), 2e-3 * rho * phi / (1 - rho));
+    MeasureResult r = measure_radiosity(s, *sol, 5e-4);
+    const double A = 4 * std::numbers::pi * R * R, expected = rho * phi / (A * (1 - rho));
+    const MeterReading& m = r.readings[0];
+    for (size_t i = 0; i < m.values.size(); ++i) {
+        SCOPED_TRACE(i);
+        EXPECT_NEAR(m.values[i], expected, 2e-3 * expected + 3 * m.stderrs[i]);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(TopLevelAndInstanced, RadiosityIntegratingSphere, ::testing::Bool());
+
+// Case 5.8 (rho 0.5) with its six faces as instances of one face: the same closed form.
+TEST(Radiosity, InstancedCubeKeepsCase5_8) {
+    Scene s = build_scene(parse_pbrt_string(R"(Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ] "string filename" "x.exr"
+WorldBegin
+ObjectBegin "face"
+Material "diffuse" "spectrum reflectance" [ 360 0.5 830 0.5 ]
+Shape "trianglemesh" "point3 P" [ -2 -2 -2 2 -2 -2 2 2 -2 -2 2 -2 ] "integer indices" [ 0 1 2 0 2 3 ]
+ObjectEnd
+ObjectInstance "face"
+AttributeBegin Rotate 180 1 0 0 ObjectInstance "face" AttributeEnd
+AttributeBegin Rotate 90 1 0 0 ObjectInstance "face" AttributeEnd
+AttributeBegin Rotate -90 1 0 0 ObjectInstance "face" AttributeEnd
+AttributeBegin Rotate 90 0 1 0 ObjectInstance "face" AttributeEnd
+AttributeBegin Rotate -90 0 1 0 ObjectInstance "face" AttributeEnd
+LightSource "point" "float power" [ 10000 ]
+Meter "illuminancegrid" "string name" "floor-indirect" "string component" "indirect" "point3 corner" [ -2 -2 -2 ] "vector3 u" [ 4 0 0 ] "vector3 v" [ 0 4 0 ] "integer resolution" [ 1 1 ] "bool cellaverage" true "normal n" [ 0 0 1 ]
+)", "<test>"), {});
+    std::string why;
+    ASSERT_TRUE(radiosity_models_exactly(s, &why)) << why;
+    RadiosityParams prm;
+    prm.max_patches = 1024;
+    auto sol = solve_radiosity(s, prm, 2);
+    EXPECT_TRUE(sol->stats().notes.empty()) << sol->stats().notes.front();
+    EXPECT_EQ(sol->stats().diffuse_triangles, 12u);
+    const double expected = 0.5 * 10000 / (96 * 0.5);
+    EXPECT_NEAR(reflected_flux(*sol), 0.5 * 10000 / 0.5, 2e-3 * 0.5 * 10000 / 0.5);
+    MeasureResult r = measure_radiosity(s, *sol, 1e-3);
+    const MeterReading& ind = r.readings[0];
+    EXPECT_NEAR(ind.avg, expected, 2e-3 * expected + 3 * ind.avg_stderr);
+}
+
+// Estimator agreement with curved shapes seen from outside: the occluded room's grey box
+// replaced by a sphere resting on the floor (rho 0.8, bright, so that what it reflects
+// counts), a column (an open cylinder from floor to ceiling) and a round table top (a disk).
+// Radiosity meshes them in their (u, v) parameters; both methods must agree within the
+// issue's 1 % per point plus three combined standard errors, beside the sphere and in its
+// shadow, on the table, on the floor under it (facing the disk's underside), on the floor by
+// the column and just above the sphere. (A meter just under the table facing down reads the
+// floor in the table's shadow, where the floor's patches straddle the shadow's edge: +2.5 %
+// with the disk and +4 % with a square table of the same area at 1500 patches, a flat-mesh
+// limit that this test is not about.)
+TEST(Radiosity, CurvedShapesAgreeWithThePathTracer) {
+    const char* scene = R"(
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ] "string filename" "x.exr"
+Integrator "radiosity" "integer maxpatches" [ 2048 ]
+WorldBegin
+Material "diffuse" "spectrum reflectance" [ 360 0.2 830 0.2 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0 4 0 0 4 3 0 0 3 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "spectrum reflectance" [ 360 0.7 830 0.7 ]
+Shape "trianglemesh" "point3 P" [ 0 0 2.5 0 3 2.5 4 3 2.5 4 0 2.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "spectrum reflectance" [ 360 0.5 830 0.5 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0 0 0 2.5 4 0 2.5 4 0 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 0 3 0 4 3 0 4 3 2.5 0 3 2.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0 0 3 0 0 3 2.5 0 0 2.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ 4 0 0 4 0 2.5 4 3 2.5 4 3 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "spectrum reflectance" [ 360 0.8 830 0.8 ]
+AttributeBegin
+  Translate 1.3 1.2 0.5
+  Shape "sphere" "float radius" [ 0.5 ]
+AttributeEnd
+Material "diffuse" "spectrum reflectance" [ 360 0.4 830 0.4 ]
+AttributeBegin
+  Translate 3.2 2.3 0
+  Shape "cylinder" "float radius" [ 0.2 ] "float zmin" [ 0 ] "float zmax" [ 2.5 ]
+AttributeEnd
+AttributeBegin
+  Translate 2.9 0.9 0.75
+  Shape "disk" "float radius" [ 0.5 ]
+AttributeEnd
+AttributeBegin
+  Translate 2.3 1.5 2.2
+  LightSource "point" "float power" [ 3000 ]
+AttributeEnd
+Meter "illuminance" "string name" "floor" "point3 p" [ 0.5 0.7 0  1.3 0.55 0  0.9 1.6 0  3.2 1.9 0 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "string name" "table" "point3 p" [ 2.9 0.9 0.751 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "string name" "under" "point3 p" [ 2.9 0.9 0 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "string name" "above-sphere" "point3 p" [ 1.3 1.2 1.01 ] "normal n" [ 0 0 1 ]
+Meter "illuminance" "string name" "wall" "point3 p" [ 0 1.2 0.5 ] "normal n" [ 1 0 0 ]
+)";
+    Scene s = build_scene(parse_pbrt_string(scene, "<test>"), {});
+    std::string why;
+    ASSERT_TRUE(radiosity_models_exactly(s, &why)) << why;
+    auto sol = solve_radiosity(s, s.integrator.radiosity, 2);
+    EXPECT_TRUE(sol->stats().notes.empty()) << sol->stats().notes.front();
+    MeasureResult rad = measure_radiosity(s, *sol, 1e-3);
+    MeasureResult path = measure_scene(s, 2e-3);
+    ASSERT_EQ(rad.readings.size(), path.readings.size());
+    for (size_t m = 0; m < rad.readings.size(); ++m)
+        for (size_t i = 0; i < rad.readings[m].values.size(); ++i) {
+            SCOPED_TRACE(rad.readings[m].meter.name + " " + std::to_string(i));
+            const double r = rad.readings[m].values[i], p = path.readings[m].values[i];
+            const double se = std::hypot(rad.readings[m].stderrs[i], path.readings[m].stderrs[i]);
+            EXPECT_NEAR(r, p, 0.01 * p + 3 * se);
+        }
 }
 
 }  // namespace

@@ -410,14 +410,14 @@ Shape "trianglemesh" "point3 P" [ -3 -3 3  -3 3 3  3 3 3  3 -3 3 ]
 Meter "illuminancegrid" "string name" "floor" "point3 corner" [ -1 -1 0 ] "vector3 u" [ 2 0 0 ]
       "vector3 v" [ 0 2 0 ] "integer resolution" [ 4 4 ]
 SCENE
-"$bin" measure "$tmp/room.pbrt" --rel-error 0.0005 --json "$tmp/mck-ref.json" --quiet > /dev/null
+"$bin" measure "$tmp/room.pbrt" --method path --rel-error 0.0005 --json "$tmp/mck-ref.json" --quiet > /dev/null
 mkills=0
 rm -f "$tmp/mck.ckpt"
 for i in 1 2 3 4 5 6; do
   if [ -e "$tmp/mck.ckpt" ]; then
     "$bin" measure --resume "$tmp/mck.ckpt" --threads 1 --quiet > /dev/null 2>&1 &
   else
-    "$bin" measure "$tmp/room.pbrt" --rel-error 0.0005 --json "$tmp/mck.json" \
+    "$bin" measure "$tmp/room.pbrt" --method path --rel-error 0.0005 --json "$tmp/mck.json" \
       --checkpoint "$tmp/mck.ckpt" --threads 1 --quiet > /dev/null 2>&1 &
   fi
   pid=$!
@@ -428,7 +428,7 @@ done
 if [ -e "$tmp/mck.ckpt" ]; then
   "$bin" measure --resume "$tmp/mck.ckpt" --quiet > /dev/null
 else
-  "$bin" measure "$tmp/room.pbrt" --rel-error 0.0005 --json "$tmp/mck.json" --quiet > /dev/null
+  "$bin" measure "$tmp/room.pbrt" --method path --rel-error 0.0005 --json "$tmp/mck.json" --quiet > /dev/null
 fi
 same_readings() {  # the readings of two JSON files, times aside
   python3 -c '
@@ -436,6 +436,8 @@ import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
 for j in (a, b):
     j.pop("wall_seconds"); j.pop("cpu_seconds")
+    for k in [k for k in j.get("radiosity", {}) if k.endswith("_seconds")]:
+        j["radiosity"].pop(k)
 sys.exit(0 if a == b else 1)' "$1" "$2"
 }
 check "the measurement was killed at least twice" test $mkills -ge 2
@@ -551,7 +553,10 @@ check "--radiosity-mesh without radiosity fails" test $? -ne 0
 check "--radiosity-mesh without radiosity says why" grep -q "not radiosity" "$tmp/radx.txt"
 { cat "$tmp/small.pbrt"; echo 'Meter "illuminance" "string name" "p" "point3 p" [ 0 0 -2 ] "normal n" [ 0 0 -1 ]'; } > "$tmp/radsphere.pbrt"
 "$bin" measure "$tmp/radsphere.pbrt" --rel-error 0.2 > "$tmp/radm.txt" 2>&1
-check "auto keeps the path tracer for a sphere" grep -q "method path (auto: " "$tmp/radm.txt"
+check "auto picks radiosity for a diffuse sphere (meshed)" grep -q "method radiosity (auto: " "$tmp/radm.txt"
+sed 's/Material "diffuse" "rgb reflectance" \[ 0.5 0.5 0.5 \]/Material "conductor"/' "$tmp/radsphere.pbrt" > "$tmp/radglossy.pbrt"
+"$bin" measure "$tmp/radglossy.pbrt" --rel-error 0.2 > "$tmp/radg.txt" 2>&1
+check "auto keeps the path tracer for a metal sphere" grep -q "method path (auto: " "$tmp/radg.txt"
 "$bin" measure "$cie58" --pilot-samples 3 > "$tmp/radps.txt" 2>&1
 check "--pilot-samples must be a power of two" grep -q "not a power of two" "$tmp/radps.txt"
 # measure --method light: the cell-averaged grids by light tracing (their estimator says so,

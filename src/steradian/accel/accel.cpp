@@ -288,9 +288,11 @@ struct Accel::Impl {
     void fill(const RTCRayHit& rh, const Ray& ray, SurfaceHit& h) const {
         int shape;
         const Instance* inst = nullptr;
+        h.instance = -1;
         if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
             int ii = inst_geom_to_instance[rh.hit.instID[0]];
             inst = &instances[ii];
+            h.instance = ii;
             shape = proto_geom_shape[inst->prototype][rh.hit.geomID];
         } else {
             shape = top_geom_shape[rh.hit.geomID];

@@ -39,6 +39,7 @@ struct SurfaceHit {
     Vec3 wo;            ///< unit direction towards the ray origin
     Float t = 0;        ///< ray parameter
     int shape = -1;     ///< index into Scene::shapes
+    int instance = -1;  ///< index into Scene::instances when the shape is instanced, else -1
     uint32_t prim = 0;  ///< primitive within the shape (triangle index)
     int material = -1;  ///< index into Scene::materials, -1: interface (no scattering)
     int light = -1;     ///< index into Scene::lights if the surface emits, else -1

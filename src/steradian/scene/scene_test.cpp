@@ -16,7 +16,7 @@ namespace sr {
 namespace {
 
 // SurfaceHit is compared byte for byte below: it must have no padding.
-static_assert(sizeof(SurfaceHit) == 47 * 4, "SurfaceHit: 47 four-byte fields, no padding");
+static_assert(sizeof(SurfaceHit) == 48 * 4, "SurfaceHit: 48 four-byte fields, no padding");
 
 // One shape of each kind the accelerator fills differently: a curved triangle mesh with vertex
 // normals (its hits have normal derivatives), a flat mesh without, a sphere, a disk, an

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <map>
+#include <numbers>
 #include <tuple>
 #include <cmath>
 #include <mutex>
@@ -62,6 +64,7 @@ struct Unknown {
     DVec3 c, n;  ///< centroid, side normal
     std::array<DVec3, 3> v;
     double area = 0, diam = 0;
+    double lift = 0;  ///< PatchGeom::lift
 };
 
 /// Direct irradiance arriving at point x (side normal n) from every light, one light sample
@@ -133,6 +136,104 @@ std::array<double, kBands> band_ybar() {
     return w;
 }
 
+using Coarse = RadiositySolution::Coarse;
+
+/// The (u, v) grid a curved shape is tessellated on (two coarse triangles per cell, or one
+/// fan where a row of the grid ends at a pole): cells of at most 45 degrees, about square.
+/// False for shapes that are not curved surfaces of revolution.
+bool curved_grid(const ShapeGeometry& g, int& nu, int& nv, bool& pole0, bool& pole1) {
+    const double step = std::numbers::pi / 4;
+    auto around = [&](Float phi_max) { return std::max(3, int(std::ceil(double(phi_max) / step - 1e-4))); };
+    pole0 = pole1 = false;
+    if (const auto* s = std::get_if<Sphere>(&g)) {
+        nu = around(s->phi_max);
+        pole0 = s->z_min <= -s->radius || s->z_min >= s->radius;
+        pole1 = s->z_max >= s->radius || s->z_max <= -s->radius;
+        const double range = std::abs(double(s->theta_z_max) - double(s->theta_z_min));
+        nv = std::max(pole0 && pole1 ? 2 : 1, int(std::ceil(range / step - 1e-4)));
+        return true;
+    }
+    if (const auto* d = std::get_if<Disk>(&g)) {
+        nu = around(d->phi_max);
+        pole1 = !(d->inner_radius > 0);
+        const double arc = double(d->radius) * double(d->phi_max) / nu;
+        nv = std::clamp(int(std::lround(double(d->radius - d->inner_radius) / std::max(arc, 1e-30))), 1, 16);
+        return true;
+    }
+    if (const auto* c = std::get_if<Cylinder>(&g)) {
+        nu = around(c->phi_max);
+        const double arc = double(c->radius) * double(c->phi_max) / nu;
+        nv = std::clamp(int(std::lround(std::abs(double(c->z_max - c->z_min)) / std::max(arc, 1e-30))), 1, 64);
+        return true;
+    }
+    return false;
+}
+
+/// The object-space point of a curved shape at (u, v), and the shape's world_from_object.
+Vec3d curved_object_point(const ShapeGeometry& g, double u, double v, const Transform*& w) {
+    if (const auto* s = std::get_if<Sphere>(&g)) {
+        w = &s->world_from_object;
+        const double phi = u * double(s->phi_max);
+        const double th = (1 - v) * double(s->theta_z_min) + v * double(s->theta_z_max);
+        double st = std::sin(th), ct = std::cos(th);
+        if (std::abs(st) < 1e-7) st = 0, ct = ct < 0 ? -1 : 1;  // a pole: exactly on the axis
+        const double r = double(s->radius);
+        return Vec3d(r * st * std::cos(phi), r * st * std::sin(phi), r * ct);
+    }
+    if (const auto* d = std::get_if<Disk>(&g)) {
+        w = &d->world_from_object;
+        const double phi = u * double(d->phi_max);
+        const double rho = (1 - v) * double(d->radius) + v * double(d->inner_radius);
+        return Vec3d(rho * std::cos(phi), rho * std::sin(phi), double(d->height));
+    }
+    const auto& c = std::get<Cylinder>(g);
+    w = &c.world_from_object;
+    const double phi = u * double(c.phi_max), r = double(c.radius);
+    return Vec3d(r * std::cos(phi), r * std::sin(phi), (1 - v) * double(c.z_min) + v * double(c.z_max));
+}
+
+/// The world-space point on the true surface of curved coarse triangle c at (b1, b2).
+DVec3 curved_point(const Scene& scene, const Coarse& c, double b1, double b2) {
+    double u = 0, v = 0;
+    c.uv_of(b1, b2, u, v);
+    const Transform* w = nullptr;
+    const Vec3d q = curved_object_point(scene.shapes[size_t(c.shape)].geometry, u, v, w);
+    Vec3d p = w->point(q);
+    if (c.instance >= 0) p = scene.instances[size_t(c.instance)].world_from_instance.point(p);
+    return DVec3(p.x, p.y, p.z);
+}
+
+/// A hit on coarse triangle c at (b1, b2), for its material (its position and uv).
+SurfaceHit coarse_hit(const Scene& scene, const Coarse& c, double b1, double b2) {
+    SurfaceHit h;
+    const ShapeEntry& e = scene.shapes[size_t(c.shape)];
+    if (!c.curved()) {
+        std::get<TriangleMesh>(e.geometry).fill_hit(c.prim, Float(b1), Float(b2), h);
+    } else {
+        double u = 0, v = 0;
+        c.uv_of(b1, b2, u, v);
+        const Transform* w = nullptr;
+        const Vec3d q = curved_object_point(e.geometry, u, v, w);
+        const Point3 po(Float(q.x), Float(q.y), Float(q.z));
+        std::visit([&](const auto& shape) {
+            if constexpr (requires { shape.fill_hit(po, h); }) shape.fill_hit(po, h);
+        }, e.geometry);
+        h.uv = Point2(Float(u), Float(v));
+    }
+    if (c.instance >= 0) {
+        const Transform& w = scene.instances[size_t(c.instance)].world_from_instance;
+        h.p = w.point(h.p);
+        h.ng = normalize(w.normal(h.ng));
+        h.ns = normalize(w.normal(h.ns));
+    }
+    h.shape = c.shape;
+    h.instance = c.instance;
+    h.prim = c.prim;
+    h.material = e.material;
+    h.wo = h.ns;
+    return h;
+}
+
 }  // namespace
 
 bool radiosity_models_exactly(const Scene& scene, std::string* why) {
@@ -141,19 +242,29 @@ bool radiosity_models_exactly(const Scene& scene, std::string* why) {
         return false;
     };
     if (!scene.media.empty()) return no("the scene has participating media");
-    if (!scene.instances.empty()) return no("the scene has object instances");
+    // Every shape the pass meshes: the top-level ones, and the prototypes' once per instance.
+    std::vector<size_t> uses(scene.shapes.size(), 0);
+    for (int si : scene.top_level_shapes) ++uses[size_t(si)];
+    for (const Instance& inst : scene.instances)
+        for (int si : scene.prototypes[size_t(inst.prototype)].shapes) ++uses[size_t(si)];
     size_t triangles = 0;
-    for (int si : scene.top_level_shapes)
-        if (const auto* m = std::get_if<TriangleMesh>(&scene.shapes[size_t(si)].geometry))
-            triangles += m->num_triangles();
+    for (size_t si = 0; si < scene.shapes.size(); ++si) {
+        const ShapeGeometry& g = scene.shapes[si].geometry;
+        int nu = 0, nv = 0;
+        bool p0 = false, p1 = false;
+        if (const auto* m = std::get_if<TriangleMesh>(&g))
+            triangles += uses[si] * m->num_triangles();
+        else if (curved_grid(g, nu, nv, p0, p1))
+            triangles += uses[si] * size_t(2 * nu * nv);
+    }
     if (triangles > size_t(scene.integrator.radiosity.max_patches))
         return no(fmt::format("{} triangles, more than the radiosity mesh's {} patches",
                               triangles, scene.integrator.radiosity.max_patches));
-    for (int si : scene.top_level_shapes) {
-        const ShapeEntry& e = scene.shapes[size_t(si)];
-        if (e.material < 0) continue;
-        if (!std::holds_alternative<TriangleMesh>(e.geometry))
-            return no(fmt::format("shape {} is not a triangle mesh", si));
+    for (size_t si = 0; si < scene.shapes.size(); ++si) {
+        const ShapeEntry& e = scene.shapes[si];
+        if (e.material < 0 || uses[si] == 0) continue;
+        if (std::holds_alternative<Curves>(e.geometry))
+            return no(fmt::format("shape {} is a curve (the radiosity pass does not mesh curves)", si));
         if (e.alpha) return no(fmt::format("shape {} has an alpha mask", si));
         const Material& mat = scene.materials[size_t(e.material)];
         if (!std::holds_alternative<DiffuseMaterial>(mat))
@@ -165,20 +276,69 @@ bool radiosity_models_exactly(const Scene& scene, std::string* why) {
     return true;
 }
 
+void RadiositySolution::Coarse::uv_of(double b1, double b2, double& u, double& v) const {
+    double ls = 0, lt = 0;  // the point's place in the cell, 0..1 along u and v
+    switch (kind) {
+    case 0: ls = b1 + b2, lt = b2; break;
+    case 1: ls = b1, lt = b1 + b2; break;
+    case 2: lt = b1 + b2, ls = lt > 0 ? b1 / lt : 0.5; break;
+    default: lt = b2, ls = b2 < 1 ? b1 / (1 - b2) : 0.5; break;
+    }
+    // Written so that a cell's corners come out exactly (neighbours share them bit for bit).
+    u = (1 - ls) * u0 + ls * u1;
+    v = (1 - lt) * v0 + lt * v1;
+}
+
+void RadiositySolution::Coarse::bary_of(double u, double v, double& b1, double& b2) const {
+    const double ls = std::clamp((u - u0) / (u1 - u0), 0.0, 1.0);
+    const double lt = std::clamp((v - v0) / (v1 - v0), 0.0, 1.0);
+    switch (kind) {
+    case 0: b1 = std::max(0.0, ls - lt), b2 = lt; break;
+    case 1: b1 = ls, b2 = std::max(0.0, lt - ls); break;
+    case 2: b1 = lt * ls, b2 = lt * (1 - ls); break;
+    default: b1 = (1 - lt) * ls, b2 = lt; break;
+    }
+}
+
+int RadiositySolution::coarse_at(const SurfaceHit& h, double& b1, double& b2) const {
+    if (h.shape < 0) return -1;
+    int sf = -1;
+    if (h.instance < 0) {
+        if (size_t(h.shape) < m_shape_surface.size()) sf = m_shape_surface[size_t(h.shape)];
+    } else if (size_t(h.instance) < m_instance_base.size() &&
+               size_t(h.shape) < m_proto_slot.size() && m_proto_slot[size_t(h.shape)] >= 0) {
+        sf = m_instance_surface[size_t(m_instance_base[size_t(h.instance)] +
+                                       m_proto_slot[size_t(h.shape)])];
+    }
+    if (sf < 0) return -1;
+    const Surface& s = m_surfaces[size_t(sf)];
+    if (s.nu == 0) {
+        const int ci = s.first + int(h.prim);
+        const Coarse& c = m_coarse[size_t(ci)];
+        const DVec3 v = DVec3(h.p) - c.p0;
+        const double d00 = ddot(c.e1, c.e1), d01 = ddot(c.e1, c.e2), d11 = ddot(c.e2, c.e2);
+        const double d20 = ddot(v, c.e1), d21 = ddot(v, c.e2);
+        const double den = d00 * d11 - d01 * d01;
+        b1 = std::clamp(den != 0 ? (d11 * d20 - d01 * d21) / den : 0, 0.0, 1.0);
+        b2 = std::clamp(den != 0 ? (d00 * d21 - d01 * d20) / den : 0, 0.0, 1.0);
+        return ci;
+    }
+    // A curved shape: the cell of the hit's (u, v), then the triangle of the cell.
+    const double u = std::clamp(double(h.uv[0]), 0.0, 1.0), v = std::clamp(double(h.uv[1]), 0.0, 1.0);
+    const int iu = std::min(int(u * s.nu), s.nu - 1), iv = std::min(int(v * s.nv), s.nv - 1);
+    int ci = s.first + 2 * (iv * s.nu + iu);
+    const Coarse& c0 = m_coarse[size_t(ci)];
+    if (c0.kind == 0 && (u - c0.u0) * (c0.v1 - c0.v0) < (v - c0.v0) * (c0.u1 - c0.u0)) ++ci;
+    m_coarse[size_t(ci)].bary_of(u, v, b1, b2);
+    return ci;
+}
+
 int RadiositySolution::leaf_at(const SurfaceHit& h, double* ob1, double* ob2) const {
-    if (h.shape < 0 || size_t(h.shape) >= m_shape_first.size()) return -1;
-    const int first = m_shape_first[size_t(h.shape)];
-    if (first < 0) return -1;
-    const Coarse& c = m_coarse[size_t(first) + h.prim];
+    double b1 = 0, b2 = 0;
+    const int ci = coarse_at(h, b1, b2);
+    if (ci < 0) return -1;
+    const Coarse& c = m_coarse[size_t(ci)];
     if (c.root < 0) return -1;
-    const DVec3 v = DVec3(h.p) - c.p0;
-    const double d00 = ddot(c.e1, c.e1), d01 = ddot(c.e1, c.e2), d11 = ddot(c.e2, c.e2);
-    const double d20 = ddot(v, c.e1), d21 = ddot(v, c.e2);
-    const double den = d00 * d11 - d01 * d01;
-    double b1 = den != 0 ? (d11 * d20 - d01 * d21) / den : 0;
-    double b2 = den != 0 ? (d00 * d21 - d01 * d20) / den : 0;
-    b1 = std::clamp(b1, 0.0, 1.0);
-    b2 = std::clamp(b2, 0.0, 1.0);
     int node = c.root;
     while (m_nodes[size_t(node)].child >= 0) {
         const int ch = m_nodes[size_t(node)].child;
@@ -213,7 +373,11 @@ bool RadiositySolution::side_at(const SurfaceHit& h, int& u, double& b1, double&
     if (leaf < 0) return false;
     const Patch& p = m_patches[size_t(leaf)];
     if (area) *area = p.area;
-    u = p.unknown[ddot(DVec3(h.wo), p.n) >= 0 ? 0 : 1];
+    // The side the ray came from, by the hit's own geometric normal (on a curved surface the
+    // patch's chord is tilted against it), oriented as the patch's front.
+    const DVec3 ng(h.ng.x, h.ng.y, h.ng.z);
+    const double side = ddot(DVec3(h.wo), ng) * (ddot(ng, p.n) >= 0 ? 1.0 : -1.0);
+    u = p.unknown[side >= 0 ? 0 : 1];
     return true;
 }
 
@@ -333,76 +497,130 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     const double scene_diam = std::max(1e-6, double(length(scene.bounds.diagonal())));
     const double eps = 1e-6 * scene_diam;
 
-    // ---- coarse triangles: the scene's diffuse triangles ------------------------------------
-    S.m_shape_first.assign(scene.shapes.size(), -1);
-    std::vector<char> is_top(scene.shapes.size(), 0);
-    for (int si : scene.top_level_shapes) is_top[size_t(si)] = 1;
-    for (size_t si = 0; si < scene.shapes.size(); ++si) {
+    // ---- coarse triangles: the scene's diffuse triangles and curved shapes' tessellations ----
+    // Top-level shapes, then each object instance's prototype shapes (in world space).
+    S.m_shape_surface.assign(scene.shapes.size(), -1);
+    S.m_proto_slot.assign(scene.shapes.size(), -1);
+    for (const Prototype& pr : scene.prototypes)
+        for (size_t k = 0; k < pr.shapes.size(); ++k) S.m_proto_slot[size_t(pr.shapes[k])] = int(k);
+    // Whether coarse triangle c is diffuse (and black), from its material at (b1, b2).
+    auto classify = [&](RadiositySolution::Coarse& c, double b1, double b2) {
+        const int material = scene.shapes[size_t(c.shape)].material;
+        const SurfaceHit h = coarse_hit(scene, c, b1, b2);
+        bool lambert = true, black = true;
+        for (int g = 0; g < kGroups && lambert; ++g) {
+            SampledWavelengths lam = band_group(g);
+            auto b = make_bsdf(scene.materials[size_t(material)], mctx, h, lam);
+            lambert = is_lambert(b);
+            if (lambert) black = black && std::get<LambertLobe>(b->lobe()).r.is_zero();
+        }
+        if (lambert) c.root = 0;  // diffuse: meshed below
+        c.black = lambert && black;
+        return lambert;
+    };
+    auto set_chord = [](RadiositySolution::Coarse& c, DVec3 p0, DVec3 p1, DVec3 p2) {
+        c.p0 = p0;
+        c.e1 = p1 - p0;
+        c.e2 = p2 - p0;
+        const DVec3 cr = dcross(c.e1, c.e2);
+        const double len = dlength(cr);
+        if (len > 0) c.n = cr * (1 / len);
+        return len > 0;
+    };
+    size_t non_diffuse_instanced = 0;
+    // Meshes shape si (of instance inst, or -1) into coarse triangles; returns its surface.
+    auto mesh_shape = [&](size_t si, int inst) -> int {
         const ShapeEntry& e = scene.shapes[si];
-        if (e.material < 0) continue;
-        if (!is_top[si]) {
-            st.notes.push_back(fmt::format("shape {} (in an object instance) is not meshed", si));
-            continue;
+        if (e.material < 0) return -1;
+        if (std::holds_alternative<Curves>(e.geometry)) {
+            if (inst <= 0)
+                st.notes.push_back(fmt::format("shape {} (a curve) is not meshed: it reflects "
+                                               "nothing in the radiosity pass", si));
+            return -1;
         }
-        const auto* mesh = std::get_if<TriangleMesh>(&e.geometry);
-        if (!mesh) {
-            const char* kind = std::holds_alternative<Sphere>(e.geometry)   ? "sphere"
-                               : std::holds_alternative<Disk>(e.geometry)   ? "disk"
-                               : std::holds_alternative<Cylinder>(e.geometry) ? "cylinder"
-                                                                              : "curve";
-            st.notes.push_back(fmt::format("shape {} (a {}) is not meshed: it reflects nothing "
-                                           "in the radiosity pass", si, kind));
-            continue;
-        }
-        S.m_shape_first[si] = int(S.m_coarse.size());
-        const auto& P = *mesh->p;
-        const auto& I = *mesh->indices;
+        RadiositySolution::Surface sf;
+        sf.first = int(S.m_coarse.size());
         size_t non_diffuse = 0;
-        for (size_t t = 0; t < mesh->num_triangles(); ++t) {
-            RadiositySolution::Coarse c;
-            c.shape = int(si);
-            c.prim = uint32_t(t);
-            const DVec3 p0(P[I[3 * t]]), p1(P[I[3 * t + 1]]), p2(P[I[3 * t + 2]]);
-            c.p0 = p0;
-            c.e1 = p1 - p0;
-            c.e2 = p2 - p0;
-            const DVec3 cr = dcross(c.e1, c.e2);
-            const double len = dlength(cr);
-            if (len > 0) {
-                c.n = cr * (1 / len);
-                SurfaceHit h;
-                mesh->fill_hit(t, Float(1.0 / 3), Float(1.0 / 3), h);
-                h.shape = int(si);
-                h.prim = uint32_t(t);
-                h.material = e.material;
-                h.wo = h.ns;
-                bool lambert = true, black = true;
-                for (int g = 0; g < kGroups && lambert; ++g) {
-                    SampledWavelengths lam = band_group(g);
-                    auto b = make_bsdf(scene.materials[size_t(e.material)], mctx, h, lam);
-                    lambert = is_lambert(b);
-                    if (lambert) black = black && std::get<LambertLobe>(b->lobe()).r.is_zero();
-                }
-                if (lambert)
-                    c.root = 0;  // diffuse: meshed below
-                else
+        if (const auto* mesh = std::get_if<TriangleMesh>(&e.geometry)) {
+            const auto& P = *mesh->p;
+            const auto& I = *mesh->indices;
+            const Transform* w = inst >= 0 ? &scene.instances[size_t(inst)].world_from_instance : nullptr;
+            auto world = [&](uint32_t k) {
+                if (!w) return DVec3(P[k]);
+                const Vec3d q = w->point(Vec3d(P[k]));
+                return DVec3(q.x, q.y, q.z);
+            };
+            for (size_t t = 0; t < mesh->num_triangles(); ++t) {
+                RadiositySolution::Coarse c;
+                c.shape = int(si);
+                c.instance = inst;
+                c.prim = uint32_t(t);
+                if (set_chord(c, world(I[3 * t]), world(I[3 * t + 1]), world(I[3 * t + 2])) &&
+                    !classify(c, 1.0 / 3, 1.0 / 3))
                     ++non_diffuse;
-                c.black = lambert && black;
+                S.m_coarse.push_back(c);
             }
-            S.m_coarse.push_back(c);
+        } else {
+            bool pole0 = false, pole1 = false;
+            if (!curved_grid(e.geometry, sf.nu, sf.nv, pole0, pole1)) return -1;
+            for (int iv = 0; iv < sf.nv; ++iv)
+                for (int iu = 0; iu < sf.nu; ++iu) {
+                    const bool fan0 = pole0 && iv == 0, fan1 = pole1 && iv == sf.nv - 1;
+                    for (int half = 0; half < 2; ++half) {
+                        RadiositySolution::Coarse c;
+                        c.shape = int(si);
+                        c.instance = inst;
+                        c.u0 = double(iu) / sf.nu;
+                        c.u1 = double(iu + 1) / sf.nu;
+                        c.v0 = double(iv) / sf.nv;
+                        c.v1 = double(iv + 1) / sf.nv;
+                        c.kind = fan0 ? 2 : fan1 ? 3 : half;
+                        c.surface = int(S.m_surfaces.size());
+                        // A fan covers its whole cell: the cell's second slot stays empty.
+                        if (!((fan0 || fan1) && half == 1) &&
+                            set_chord(c, curved_point(scene, c, 0, 0), curved_point(scene, c, 1, 0),
+                                      curved_point(scene, c, 0, 1)) &&
+                            !classify(c, 1.0 / 3, 1.0 / 3))
+                            ++non_diffuse;
+                        S.m_coarse.push_back(c);
+                    }
+                }
         }
-        if (non_diffuse > 0)
-            st.notes.push_back(fmt::format("shape {}: {} non-diffuse triangles are black "
-                                           "occluders in the radiosity pass", si, non_diffuse));
+        if (non_diffuse > 0) {
+            if (inst >= 0)
+                non_diffuse_instanced += non_diffuse;
+            else
+                st.notes.push_back(fmt::format("shape {}: {} non-diffuse triangles are black "
+                                               "occluders in the radiosity pass", si, non_diffuse));
+        }
+        S.m_surfaces.push_back(sf);
+        return int(S.m_surfaces.size()) - 1;
+    };
+    {
+        std::vector<char> is_top(scene.shapes.size(), 0);
+        for (int si : scene.top_level_shapes) is_top[size_t(si)] = 1;
+        for (size_t si = 0; si < scene.shapes.size(); ++si)
+            if (is_top[si]) S.m_shape_surface[si] = mesh_shape(si, -1);
+        for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
+            const Prototype& pr = scene.prototypes[size_t(scene.instances[ii].prototype)];
+            S.m_instance_base.push_back(int(S.m_instance_surface.size()));
+            for (int si : pr.shapes) S.m_instance_surface.push_back(mesh_shape(size_t(si), int(ii)));
+        }
+        if (non_diffuse_instanced > 0)
+            st.notes.push_back(fmt::format("{} non-diffuse triangles of object instances are "
+                                           "black occluders in the radiosity pass",
+                                           non_diffuse_instanced));
     }
 
     // ---- which sides can receive light --------------------------------------------------------
     // A side is active if a light or a point of another diffuse triangle lies strictly in
     // front of it (infinite and distant lights, and area lights on spheres and disks, count
     // as everywhere).
+    // The inside of a full sphere is closed: only a light or a surface inside it lights it.
     std::vector<DVec3> light_points;
-    bool light_everywhere = false;
+    bool light_everywhere = false, shape_light = false;
     for (const Light& l : scene.lights) {
+        if (const auto* al = std::get_if<DiffuseAreaLight>(&l); al && !al->triangle) shape_light = true;
         if (const auto* pl = std::get_if<PointLight>(&l))
             light_points.push_back(DVec3(pl->p));
         else if (const auto* sl = std::get_if<SpotLight>(&l))
@@ -424,9 +642,41 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         arena.execute([&] {
             tbb::parallel_for(size_t(0), diffuse.size(), [&](size_t a) {
                 const auto& c = S.m_coarse[diffuse[a]];
+                const auto* ball = c.curved() ? std::get_if<Sphere>(&scene.shapes[size_t(c.shape)].geometry)
+                                              : nullptr;
+                if (ball && !ball->full()) ball = nullptr;
+                Transform object_from_world;
+                if (ball) {
+                    object_from_world = ball->world_from_object;
+                    if (c.instance >= 0)
+                        object_from_world =
+                            scene.instances[size_t(c.instance)].world_from_instance * object_from_world;
+                    object_from_world = object_from_world.inverse();
+                }
                 for (int side = 0; side < 2; ++side) {
                     const DVec3 n = side == 0 ? c.n : c.n * -1.0;
                     auto in_front = [&](DVec3 q) { return ddot(n, q - c.p0) > eps; };
+                    if (ball) {
+                        const Vec3d o = object_from_world.inverse().point(Vec3d(0, 0, 0));
+                        if (ddot(n, DVec3(o.x, o.y, o.z) - c.p0) > 0) {
+                            // The inside of a closed sphere.
+                            auto inside = [&](DVec3 q) {
+                                const Vec3d qo = object_from_world.point(Vec3d(q.x, q.y, q.z));
+                                return std::sqrt(qo.x * qo.x + qo.y * qo.y + qo.z * qo.z) <
+                                       double(ball->radius) * (1 - 1e-9);
+                            };
+                            bool act = shape_light;
+                            for (size_t k = 0; k < light_points.size() && !act; ++k)
+                                act = inside(light_points[k]);
+                            for (size_t b = 0; b < diffuse.size() && !act; ++b) {
+                                const auto& o2 = S.m_coarse[diffuse[b]];
+                                if (o2.shape == c.shape && o2.instance == c.instance) continue;
+                                act = inside(o2.p0) || inside(o2.p0 + o2.e1) || inside(o2.p0 + o2.e2);
+                            }
+                            active[diffuse[a]][size_t(side)] = act;
+                            continue;
+                        }
+                    }
                     bool act = light_everywhere;
                     for (size_t k = 0; k < light_points.size() && !act; ++k)
                         act = in_front(light_points[k]);
@@ -452,11 +702,26 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         if (c.root < 0) continue;
         active_area += tri_area(c.e1, c.e2) * double(active[i][0] + active[i][1]);
     }
+    // The length that sets a coarse triangle's depth of uniform splitting: its longest edge;
+    // on a curved shape, the longest edge of any of the shape's coarse triangles. Their
+    // children's corners lie on the true surface, so two neighbours split to different
+    // depths would leave a crack between their chords, through which the solve would lose
+    // light: split to one depth, the chords make one closed surface.
+    std::vector<double> split_length(nc, 0);
+    {
+        std::vector<double> surface_max(S.m_surfaces.size(), 0);
+        for (size_t i = 0; i < nc; ++i) {
+            const auto& c = S.m_coarse[i];
+            split_length[i] = longest(c.p0, c.p0 + c.e1, c.p0 + c.e2);
+            if (c.curved() && c.root >= 0)
+                surface_max[size_t(c.surface)] = std::max(surface_max[size_t(c.surface)], split_length[i]);
+        }
+        for (size_t i = 0; i < nc; ++i)
+            if (S.m_coarse[i].curved()) split_length[i] = surface_max[size_t(S.m_coarse[i].surface)];
+    }
     auto level_for = [&](size_t i, double h) {
-        const auto& c = S.m_coarse[i];
-        const double L = longest(c.p0, c.p0 + c.e1, c.p0 + c.e2);
         int lv = 0;
-        while (lv < 12 && L / double(1 << lv) > h) ++lv;
+        while (lv < 12 && split_length[i] / double(1 << lv) > h) ++lv;
         return lv;
     };
     auto count_for = [&](double h) {
@@ -491,28 +756,68 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         h = std::sqrt(4 * std::max(active_area, 1e-12) / target / std::sqrt(3.0));
         for (int i = 0; i < 400 && count_for(h) > double(prm.max_patches) / 2; ++i) h *= 1.1;
     }
-    // Nodes: for each coarse triangle a tree of midpoint splits.
+    // Nodes: for each coarse triangle a tree of midpoint splits. Each node keeps its corners'
+    // barycentrics in its coarse triangle; on a curved shape its corners are the true
+    // surface's points there (the children follow the surface, not the coarse chord).
     struct Tri {
         DVec3 a, b, c;
     };
+    using Bary = std::array<std::array<double, 2>, 3>;
     std::vector<Tri> node_tri;
+    std::vector<Bary> node_bary;
     std::vector<int> node_coarse;
     std::vector<int> node_level;
-    auto add_node = [&](Tri t, int coarse, int level) {
+    std::vector<std::array<double, 2>> node_lift;  // per side (PatchGeom::lift)
+    // The normal of a node's chord (its front side: the coarse triangle's winding).
+    auto tri_normal = [](const Tri& t) {
+        const DVec3 cr = dcross(t.b - t.a, t.c - t.a);
+        const double l = dlength(cr);
+        return l > 0 ? cr * (1 / l) : DVec3(0, 0, 1);
+    };
+    auto add_node = [&](Tri t, const Bary& bary, int coarse, int level) {
         S.m_nodes.push_back({});
         node_tri.push_back(t);
+        node_bary.push_back(bary);
         node_coarse.push_back(coarse);
         node_level.push_back(level);
+        std::array<double, 2> lift{0, 0};
+        const auto& c = S.m_coarse[size_t(coarse)];
+        if (c.curved()) {
+            // How far the true surface lies in front of the chord, at its centroid and edge
+            // midpoints (a sphere's cap is highest near the centroid), with a margin of half.
+            const DVec3 n = tri_normal(t);
+            constexpr double at[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}};
+            for (const auto& w : at) {
+                const double b1 = w[0] * bary[0][0] + w[1] * bary[1][0] + w[2] * bary[2][0];
+                const double b2 = w[0] * bary[0][1] + w[1] * bary[1][1] + w[2] * bary[2][1];
+                const DVec3 chord = t.a * w[0] + t.b * w[1] + t.c * w[2];
+                const double d = ddot(n, curved_point(scene, c, b1, b2) - chord);
+                lift[0] = std::max(lift[0], 1.5 * d);
+                lift[1] = std::max(lift[1], -1.5 * d);
+            }
+        }
+        node_lift.push_back(lift);
         return int(S.m_nodes.size()) - 1;
     };
     auto split = [&](int node) {
         const Tri t = node_tri[size_t(node)];
-        const DVec3 m01 = (t.a + t.b) * 0.5, m12 = (t.b + t.c) * 0.5, m02 = (t.a + t.c) * 0.5;
+        const Bary b = node_bary[size_t(node)];
         const int coarse = node_coarse[size_t(node)], lv = node_level[size_t(node)] + 1;
-        const int first = add_node({t.a, m01, m02}, coarse, lv);
-        add_node({m01, t.b, m12}, coarse, lv);
-        add_node({m02, m12, t.c}, coarse, lv);
-        add_node({m12, m02, m01}, coarse, lv);
+        auto mid = [](const std::array<double, 2>& x, const std::array<double, 2>& y) {
+            return std::array<double, 2>{(x[0] + y[0]) * 0.5, (x[1] + y[1]) * 0.5};
+        };
+        const auto b01 = mid(b[0], b[1]), b12 = mid(b[1], b[2]), b02 = mid(b[0], b[2]);
+        DVec3 m01 = (t.a + t.b) * 0.5, m12 = (t.b + t.c) * 0.5, m02 = (t.a + t.c) * 0.5;
+        const auto& c = S.m_coarse[size_t(coarse)];
+        if (c.curved()) {
+            m01 = curved_point(scene, c, b01[0], b01[1]);
+            m12 = curved_point(scene, c, b12[0], b12[1]);
+            m02 = curved_point(scene, c, b02[0], b02[1]);
+        }
+        const int first = add_node({t.a, m01, m02}, {b[0], b01, b02}, coarse, lv);
+        add_node({m01, t.b, m12}, {b01, b[1], b12}, coarse, lv);
+        add_node({m02, m12, t.c}, {b02, b12, b[2]}, coarse, lv);
+        add_node({m12, m02, m01}, {b12, b02, b01}, coarse, lv);
         S.m_nodes[size_t(node)].child = first;
     };
     std::vector<int> leaves;  // nodes
@@ -520,7 +825,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         auto& c = S.m_coarse[i];
         if (c.root < 0) continue;
         ++st.diffuse_triangles;
-        c.root = add_node({c.p0, c.p0 + c.e1, c.p0 + c.e2}, int(i), 0);
+        c.root = add_node({c.p0, c.p0 + c.e1, c.p0 + c.e2}, Bary{{{0, 0}, {1, 0}, {0, 1}}}, int(i), 0);
         const int lv = (active[i][0] || active[i][1]) ? level_for(i, h) : 0;
         std::vector<int> stack{c.root};
         while (!stack.empty()) {
@@ -572,15 +877,21 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         node_spread.resize(S.m_nodes.size(), -1);
         node_mean.resize(S.m_nodes.size(), 0);
         std::vector<int> todo;
-        for (int nd : leaves)
-            if (node_spread[size_t(nd)] < 0) todo.push_back(nd);
+        for (int nd : leaves) {
+            if (node_spread[size_t(nd)] >= 0) continue;
+            if (S.m_coarse[size_t(node_coarse[size_t(nd)])].curved())
+                node_spread[size_t(nd)] = 0;  // not split (see split_length)
+            else
+                todo.push_back(nd);
+        }
         arena.execute([&] {
             tbb::parallel_for(size_t(0), todo.size(), [&](size_t ti) {
                 const int nd = todo[ti];
                 const auto& a = active[size_t(node_coarse[size_t(nd)])];
                 const Tri t = node_tri[size_t(nd)];
                 const DVec3 g = (t.a + t.b + t.c) * (1.0 / 3);
-                const DVec3 n = S.m_coarse[size_t(node_coarse[size_t(nd)])].n;
+                const auto& co = S.m_coarse[size_t(node_coarse[size_t(nd)])];
+                const DVec3 n = co.curved() ? tri_normal(t) : co.n;
                 double lo = kInfinity, hi = 0, sum = 0;
                 int cnt = 0;
                 for (int side = 0; side < 2; ++side) {
@@ -589,7 +900,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                     const DVec3 pts[4] = {g, t.a + (g - t.a) * 0.02, t.b + (g - t.b) * 0.02,
                                           t.c + (g - t.c) * 0.02};
                     for (int k = 0; k < 4; ++k) {
-                        const double y = photopic_direct(pts[k] + ns * eps, ns,
+                        const double y = photopic_direct(pts[k] + ns * (eps + node_lift[size_t(nd)][size_t(side)]), ns,
                                                          hash(uint64_t(nd), uint64_t(k), uint64_t(side)));
                         lo = std::min(lo, y);
                         hi = std::max(hi, y);
@@ -618,7 +929,9 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         for (size_t li = 0; li < nl; ++li) {
             const double ref = mean[li] + 0.2 * global;
             const double v = ref > 0 ? spread[li] / ref : 0;
-            if (v > double(prm.subdivide) && node_level[size_t(leaves[li])] < 16)
+            // Curved shapes stay split uniformly (no cracks: see split_length).
+            if (v > double(prm.subdivide) && node_level[size_t(leaves[li])] < 16 &&
+                !S.m_coarse[size_t(node_coarse[size_t(leaves[li])])].curved())
                 cand.push_back({v, li});
         }
         if (cand.empty()) break;
@@ -660,8 +973,36 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         const Tri t = node_tri[size_t(nd)];
         RadiositySolution::Patch p;
         p.p = {t.a, t.b, t.c};
-        p.n = S.m_coarse[size_t(ci)].n;
-        p.area = tri_area(t.b - t.a, t.c - t.a);
+        const auto& co = S.m_coarse[size_t(ci)];
+        p.n = co.curved() ? tri_normal(t) : co.n;
+        const double chord_area = tri_area(t.b - t.a, t.c - t.a);
+        p.area = chord_area;
+        if (co.curved()) {
+            // The curved piece's area: the sum of the chords of an 8 x 8 subdivision of the
+            // node in barycentrics (its error is 1/64 of the chord's own).
+            constexpr int K = 8;
+            const Bary& b = node_bary[size_t(nd)];
+            auto at = [&](int i, int j) {
+                const double x = double(i) / K, y = double(j) / K, w0 = 1 - x - y;
+                return curved_point(scene, co, w0 * b[0][0] + x * b[1][0] + y * b[2][0],
+                                    w0 * b[0][1] + x * b[1][1] + y * b[2][1]);
+            };
+            std::vector<DVec3> grid;
+            for (int j = 0; j <= K; ++j)
+                for (int i = 0; i + j <= K; ++i) grid.push_back(at(i, j));
+            auto idx = [&](int i, int j) { return size_t(j * (K + 1) - j * (j - 1) / 2 + i); };
+            double area = 0;
+            for (int j = 0; j < K; ++j)
+                for (int i = 0; i + j < K; ++i) {
+                    const DVec3 q = grid[idx(i, j)], r = grid[idx(i + 1, j)], w = grid[idx(i, j + 1)];
+                    area += tri_area(r - q, w - q);
+                    if (i + j + 1 < K) {
+                        const DVec3 x = grid[idx(i + 1, j + 1)];
+                        area += tri_area(x - r, w - r);
+                    }
+                }
+            p.area = area;
+        }
         p.material = scene.shapes[size_t(S.m_coarse[size_t(ci)].shape)].material;
         const int pi = int(S.m_patches.size());
         S.m_nodes[size_t(nd)].patch = pi;
@@ -673,7 +1014,8 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             u.v = p.p;
             u.c = (t.a + t.b + t.c) * (1.0 / 3);
             u.n = side == 0 ? p.n : p.n * -1.0;
-            u.area = p.area;
+            u.area = chord_area;  // the solve's: the chords' form factors' area
+            u.lift = node_lift[size_t(nd)][size_t(side)];
             u.diam = longest(t.a, t.b, t.c);
             p.unknown[side] = int(U.size());
             U.push_back(u);
@@ -695,17 +1037,9 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             const int ci = node_coarse[size_t(leaves[size_t(u.patch)])];
             const auto& c = S.m_coarse[size_t(ci)];
             const ShapeEntry& e = scene.shapes[size_t(c.shape)];
-            const auto& mesh = std::get<TriangleMesh>(e.geometry);
-            const DVec3 v = u.c - c.p0;
-            const double d00 = ddot(c.e1, c.e1), d01 = ddot(c.e1, c.e2), d11 = ddot(c.e2, c.e2);
-            const double d20 = ddot(v, c.e1), d21 = ddot(v, c.e2), den = d00 * d11 - d01 * d01;
-            const Float b1 = Float((d11 * d20 - d01 * d21) / den);
-            const Float b2 = Float((d00 * d21 - d01 * d20) / den);
-            SurfaceHit hh;
-            mesh.fill_hit(c.prim, b1, b2, hh);
-            hh.shape = c.shape;
-            hh.prim = c.prim;
-            hh.material = e.material;
+            const Bary& nb = node_bary[size_t(leaves[size_t(u.patch)])];
+            SurfaceHit hh = coarse_hit(scene, c, (nb[0][0] + nb[1][0] + nb[2][0]) / 3,
+                                       (nb[0][1] + nb[1][1] + nb[2][1]) / 3);
             hh.wo = u.n.f();
             for (int g = 0; g < kGroups; ++g) {
                 SampledWavelengths lam = band_group(g);
@@ -719,26 +1053,57 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             // Direct irradiance averaged over the patch: delta lights at the degree-5 rule's
             // points, other lights by direct_samples points jointly stratified (R2) over the
             // patch and the light.
+            // On a curved shape the points are the true surface's, with its normal there, each
+            // weighted by the surface's area element over the chord's: the result is the flux
+            // into the piece of surface the patch stands for, spread over the chord (the
+            // solve's area; the reads spread it back over the piece). The chords of a convex
+            // shape seen from outside would catch too little light.
             double* Eu = &E[ui * kBands];
             uint64_t r = 0;
             const auto& rule = radiosity::triangle_rule(5);
             const int ns = std::max(1, prm.direct_samples);
+            const bool curved = c.curved();
+            const Bary& nbr = node_bary[size_t(leaves[size_t(u.patch)])];
+            // The point at the patch's barycentrics (b0, b1, b2) and its normal: on the chord
+            // (weight 1), or on the true surface, weighted by dA_surface / dA_chord there.
+            auto point_at = [&](double b0, double b1, double b2, DVec3& x, DVec3& n) {
+                if (!curved) {
+                    x = p.p[0] * b0 + p.p[1] * b1 + p.p[2] * b2 + u.n * eps;
+                    n = u.n;
+                    return 1.0;
+                }
+                auto cb = [&](double l1, double l2) {
+                    const double l0 = 1 - l1 - l2;
+                    return curved_point(scene, c, l0 * nbr[0][0] + l1 * nbr[1][0] + l2 * nbr[2][0],
+                                        l0 * nbr[0][1] + l1 * nbr[1][1] + l2 * nbr[2][1]);
+                };
+                (void)b0;
+                constexpr double d = 1e-5;
+                const DVec3 s0 = cb(b1, b2), cr = dcross(cb(b1 + d, b2) - s0, cb(b1, b2 + d) - s0);
+                const double len = dlength(cr);
+                n = len > 0 ? cr * ((ddot(cr, u.n) >= 0 ? 1.0 : -1.0) / len) : u.n;
+                x = s0 + n * eps;
+                return len / (d * d) / (2 * u.area);
+            };
+            std::array<double, 7> wq{};
+            std::array<DVec3, 7> xq, nq;
+            for (int q = 0; q < rule.count; ++q) {
+                const auto& b = rule.b[size_t(q)];
+                wq[size_t(q)] = rule.w[size_t(q)] * point_at(b[0], b[1], b[2], xq[size_t(q)], nq[size_t(q)]);
+            }
             for (int l = 0; l < int(scene.lights.size()); ++l) {
                 if (direct.is_delta(l)) {
-                    for (int q = 0; q < rule.count; ++q) {
-                        const auto& b = rule.b[size_t(q)];
-                        const DVec3 x = p.p[0] * b[0] + p.p[1] * b[1] + p.p[2] * b[2];
-                        r += uint64_t(direct.add(l, x + u.n * eps, u.n, Point2(0.5f, 0.5f),
-                                                 rule.w[size_t(q)], Eu));
-                    }
+                    for (int q = 0; q < rule.count; ++q)
+                        r += uint64_t(direct.add(l, xq[size_t(q)], nq[size_t(q)], Point2(0.5f, 0.5f),
+                                                 wq[size_t(q)], Eu));
                 } else {
                     for (int s = 0; s < ns; ++s) {
                         const Point2 up = r2(uint64_t(s), hash(uint64_t(ui), uint64_t(l), 1u));
                         const Point2 ul = r2(uint64_t(s), hash(uint64_t(ui), uint64_t(l), 2u));
                         const auto bt = sample_uniform_triangle(up);
-                        const DVec3 x = p.p[0] * double(bt[0]) + p.p[1] * double(bt[1]) +
-                                        p.p[2] * double(bt[2]);
-                        r += uint64_t(direct.add(l, x + u.n * eps, u.n, ul, 1.0 / ns, Eu));
+                        DVec3 x, n;
+                        const double jw = point_at(double(bt[0]), double(bt[1]), double(bt[2]), x, n);
+                        r += uint64_t(direct.add(l, x, n, ul, jw / ns, Eu));
                     }
                 }
             }
@@ -749,8 +1114,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     // Visibility as the gather and the path tracer's continued paths see it: through
     // "interface" surfaces (a luminous opening, a medium boundary), which scatter nothing.
     bool has_interface = false;
-    for (int si : scene.top_level_shapes)
-        has_interface = has_interface || scene.shapes[size_t(si)].material < 0;
+    for (const ShapeEntry& e : scene.shapes) has_interface = has_interface || e.material < 0;
     const radiosity::Visibility visible = [&](DVec3 o, DVec3 t) {
         const Ray ray{o.f(), (t - o).f(), 1 - Float(1e-4)};
         return has_interface ? !scene.occluded_by_surface(ray) : !scene.occluded(ray);
@@ -768,11 +1132,16 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     if (prm.hierarchical) {
         // ---- hierarchical radiosity over the patch trees (hierarchical.cpp) --------------------
         // A tree per lit side of each coarse triangle, its nodes the mesh's (sub-)triangles.
+        // On a curved shape every patch is a root of its own: a node's chord is not the union
+        // of its children's (they bulge out to the surface), so a link between the chords of
+        // inner nodes would see less of the other side than the patches it stands for do, and
+        // light would be lost (2 % inside a sphere of 288 patches).
         std::vector<radiosity::HierNode> hn;
         std::vector<int> roots;
         auto build = [&](auto&& self, int nd, int side, size_t at) -> void {
             const Tri t = node_tri[size_t(nd)];
             hn[at].g = radiosity::make_patch(t.a, t.b, t.c, side == 1);
+            hn[at].g.lift = node_lift[size_t(nd)][size_t(side)];
             const int ch = S.m_nodes[size_t(nd)].child;
             if (ch < 0) {
                 hn[at].unknown = S.m_patches[size_t(S.m_nodes[size_t(nd)].patch)].unknown[side];
@@ -788,9 +1157,19 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             if (c.root < 0) continue;
             for (int side = 0; side < 2; ++side) {
                 if (!active[i][size_t(side)]) continue;
-                roots.push_back(int(hn.size()));
-                hn.emplace_back();
-                build(build, c.root, side, hn.size() - 1);
+                std::vector<int> stack{c.root};
+                while (!stack.empty()) {
+                    const int nd = stack.back();
+                    stack.pop_back();
+                    const int ch = S.m_nodes[size_t(nd)].child;
+                    if (c.curved() && ch >= 0) {
+                        for (int k = 3; k >= 0; --k) stack.push_back(ch + k);
+                        continue;
+                    }
+                    roots.push_back(int(hn.size()));
+                    hn.emplace_back();
+                    build(build, nd, side, hn.size() - 1);
+                }
             }
         }
         radiosity::HierParams hp;
@@ -816,6 +1195,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     for (size_t u = 0; u < N; ++u) {
         const auto& v = U[u].v;
         G[u] = radiosity::make_patch(v[0], v[1], v[2], U[u].side == 1);
+        G[u].lift = U[u].lift;
     }
     std::atomic<uint64_t> pairs{0};
     arena.execute([&] {
@@ -975,10 +1355,19 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     }
     }  // matrix solver
 
+    // On a curved shape the solve's patches are chords, each standing for a piece of the
+    // surface with a larger area: the flux it reflects is spread over that piece.
+    for (size_t u = 0; u < N; ++u) {
+        const double a = S.m_patches[size_t(U[u].patch)].area;
+        if (a != U[u].area && a > 0)
+            for (int k = 0; k < kBands; ++k)
+                S.m_B[u * kBands + size_t(k)] = float(double(S.m_B[u * kBands + size_t(k)]) * U[u].area / a);
+    }
+
     // ---- corner values for the interpolated read-out ------------------------------------------
     // Each corner of each unknown takes the area-weighted mean of the unknowns of the same
-    // surface (same material, same plane and side) that have a corner there. Summed in unknown
-    // order on one thread: deterministic.
+    // surface (same material, same plane and side; on a curved shape, the same shape and
+    // side) that have a corner there. Summed in unknown order on one thread: deterministic.
     if (prm.interpolate && N > 0) {
         const double q = 1e-7 * scene_diam;
         struct Key {
@@ -992,6 +1381,10 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         auto key_of = [&](size_t u, int c) {
             const DVec3 v = U[u].v[size_t(c)], n = U[u].n;
             const auto& co = S.m_coarse[size_t(node_coarse[size_t(leaves[size_t(U[u].patch)])])];
+            if (co.curved())
+                return Key{std::llround(v.x / q), std::llround(v.y / q), std::llround(v.z / q),
+                           U[u].side, co.shape, co.instance, std::numeric_limits<int64_t>::min(),
+                           scene.shapes[size_t(co.shape)].material};
             return Key{std::llround(v.x / q), std::llround(v.y / q), std::llround(v.z / q),
                        std::llround(n.x * 1e6), std::llround(n.y * 1e6), std::llround(n.z * 1e6),
                        std::llround(ddot(n, v) / (1e3 * q)),

@@ -1,6 +1,6 @@
 #pragma once
 /// Integrator "radiosity" (a steradian extension; docs/radiosity.md): the scene's diffuse
-/// triangles meshed into patches (split uniformly to a patch size, then adaptively where the
+/// triangles, spheres, disks and cylinders meshed into patches (split uniformly to a patch size, then adaptively where the
 /// direct irradiance varies), form factors from the analytic point-to-polygon form factor
 /// integrated over the receiving patch with ray-cast visibility, and the radiosity system
 /// solved by preconditioned conjugate gradients on its symmetric form to a stated residual.
@@ -58,6 +58,8 @@ public:
     struct Patch {
         std::array<radiosity::DVec3, 3> p;
         radiosity::DVec3 n;  ///< unit normal of the front side (the triangle's winding)
+        /// The area of the surface it stands for: its triangle's, or on a curved shape the
+        /// curved piece's (larger than the chord triangle's).
         double area = 0;
         int unknown[2] = {-1, -1};  ///< front and back side (-1: not in the system)
         int material = -1;          ///< the scene material of its triangle
@@ -105,15 +107,45 @@ private:
         int child = -1;  ///< first of four children, or -1 (leaf)
         int patch = -1;  ///< leaf: index into m_patches
     };
+public:
+    /// A coarse triangle: the root of a patch tree. A mesh's triangle, or a chord triangle of
+    /// a curved shape's (sphere, disk, cylinder) tessellation in its (u, v) parameters, whose
+    /// subdivisions take their corners on the true surface.
     struct Coarse {
         int shape = -1;
+        int instance = -1;  ///< the object instance it belongs to (-1: a top-level shape)
         uint32_t prim = 0;
-        radiosity::DVec3 p0, e1, e2;  ///< p0 and the edges to p1 and p2
+        radiosity::DVec3 p0, e1, e2;  ///< p0 and the edges to p1 and p2 (world space)
         radiosity::DVec3 n;
         int root = -1;
         bool black = false;  ///< reflects nothing (its sides are not in the system)
+        /// Curved shapes: the cell [u0, u1] x [v0, v1] of the shape's (u, v) and the part of
+        /// it the triangle covers: -1 none (a mesh triangle); 0 the lower triangle, corners
+        /// (u0, v0) (u1, v0) (u1, v1); 1 the upper, (u0, v0) (u1, v1) (u0, v1); 2 the whole
+        /// cell as a fan from a pole at v0 (corners the pole, (u1, v1), (u0, v1)); 3 the whole
+        /// cell as a fan from a pole at v1 (corners (u0, v0), (u1, v0), the pole).
+        int kind = -1;
+        double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+        int surface = -1;  ///< curved: its entry in m_surfaces
+        bool curved() const { return kind >= 0; }
+        /// The (u, v) of the point at barycentrics (b1, b2) (b0 = 1 - b1 - b2).
+        void uv_of(double b1, double b2, double& u, double& v) const;
+        /// The barycentrics of the point at (u, v) (inside the cell).
+        void bary_of(double u, double v, double& b1, double& b2) const;
     };
-    std::vector<int> m_shape_first;  ///< per scene shape: its first coarse triangle, or -1
+private:
+    /// A meshed shape (per object instance when instanced): its coarse triangles.
+    struct Surface {
+        int first = -1;      ///< its first coarse triangle
+        int nu = 0, nv = 0;  ///< curved: its (u, v) grid, two coarse triangles per cell; 0: a mesh
+    };
+    /// The coarse triangle a hit lies on (-1: none) and the hit's barycentrics in it.
+    int coarse_at(const SurfaceHit& h, double& b1, double& b2) const;
+    std::vector<Surface> m_surfaces;
+    std::vector<int> m_shape_surface;     ///< per scene shape (top level): its surface, or -1
+    std::vector<int> m_proto_slot;        ///< per scene shape: its index in its prototype
+    std::vector<int> m_instance_base;     ///< per instance: its first m_instance_surface entry
+    std::vector<int> m_instance_surface;  ///< per instance and prototype slot: surface, or -1
     std::vector<Coarse> m_coarse;
     std::vector<Node> m_nodes;
     std::vector<Patch> m_patches;
@@ -132,8 +164,8 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                                                   int threads = 0);
 
 /// Whether every surface of the scene is one the radiosity pass models exactly: diffuse
-/// (Lambertian) or interface triangles outside instances, and no media. `why` says what is
-/// not, when it returns false.
+/// (Lambertian) or interface triangle meshes, spheres, disks and cylinders (top-level or in
+/// object instances; not curves), and no media. `why` says what is not, when it returns false.
 bool radiosity_models_exactly(const Scene& scene, std::string* why = nullptr);
 
 /// Writes the solved mesh as a binary PLY: per face (patch) its photopic exitance in lm/m^2
