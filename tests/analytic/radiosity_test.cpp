@@ -397,6 +397,37 @@ Meter "illuminance" "string name" "wall" "string component" "indirect" "point3 p
 
 INSTANTIATE_TEST_SUITE_P(TopLevelAndInstanced, RadiosityIntegratingSphere, ::testing::Bool());
 
+// The outside of a sphere: alone in the dark, lit by a point source of flux Phi at distance d
+// from its centre, a sphere of radius R intercepts the light of the cone of half-angle
+// alpha, sin alpha = R / d: Phi (1 - cos alpha) / 2, and reflects rho of it (nothing else is
+// there to return light). The solution's reflected flux must be that: the direct light is
+// computed on the true surface (its chords, inside it, would catch 2-3 % less) and spread
+// over the true area.
+TEST(Radiosity, LoneSphereReflectsWhatItIntercepts) {
+    const double R = 0.5, d = 2, rho = 0.6, phi = 10000;
+    Scene s = build_scene(parse_pbrt_string(fmt::format(R"(Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ] "string filename" "x.exr"
+WorldBegin
+Material "diffuse" "spectrum reflectance" [ 360 {0} 830 {0} ]
+AttributeBegin
+  Rotate 40 1 2 3
+  Shape "sphere" "float radius" [ {1} ]
+AttributeEnd
+AttributeBegin
+  Translate 0 0 {2}
+  LightSource "point" "float power" [ {3} ]
+AttributeEnd
+)", rho, R, d, phi), "<test>"), {});
+    RadiosityParams prm;
+    prm.max_patches = 1024;
+    auto sol = solve_radiosity(s, prm, 2);
+    // No side of the sphere's inside is in the system (nothing is inside it).
+    EXPECT_LE(sol->stats().unknowns, sol->stats().patches);
+    const double cos_alpha = std::sqrt(1 - (R / d) * (R / d));
+    const double expected = rho * phi * (1 - cos_alpha) / 2;
+    EXPECT_NEAR(reflected_flux(*sol), expected, 2e-3 * expected);
+}
+
 // Case 5.8 (rho 0.5) with its six faces as instances of one face: the same closed form.
 TEST(Radiosity, InstancedCubeKeepsCase5_8) {
     Scene s = build_scene(parse_pbrt_string(R"(Camera "perspective"

@@ -653,9 +653,34 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                             scene.instances[size_t(c.instance)].world_from_instance * object_from_world;
                     object_from_world = object_from_world.inverse();
                 }
+                // A curved coarse triangle's surface turns by up to 45 degrees: a point lies in
+                // front of it if it lies in front of its tangent plane at a corner, an edge's
+                // midpoint or the centroid (the chord's own plane would miss what sees only a
+                // part of it, near a sphere's terminator).
+                std::array<DVec3, 7> tx, tn;
+                int nt = 0;
+                if (c.curved()) {
+                    constexpr double at[7][2] = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}, {1.0 / 3, 1.0 / 3}};
+                    constexpr double d = 1e-4;
+                    for (const auto& b : at) {
+                        const DVec3 x = curved_point(scene, c, b[0], b[1]);
+                        const DVec3 cr = dcross(curved_point(scene, c, b[0] + d, b[1]) - x,
+                                                curved_point(scene, c, b[0], b[1] + d) - x);
+                        const double len = dlength(cr);
+                        if (!(len > 0)) continue;
+                        tx[size_t(nt)] = x;
+                        tn[size_t(nt++)] = cr * ((ddot(cr, c.n) >= 0 ? 1.0 : -1.0) / len);
+                    }
+                }
                 for (int side = 0; side < 2; ++side) {
                     const DVec3 n = side == 0 ? c.n : c.n * -1.0;
-                    auto in_front = [&](DVec3 q) { return ddot(n, q - c.p0) > eps; };
+                    const double sgn = side == 0 ? 1.0 : -1.0;
+                    auto in_front = [&](DVec3 q) {
+                        if (ddot(n, q - c.p0) > eps) return true;
+                        for (int k = 0; k < nt; ++k)
+                            if (sgn * ddot(tn[size_t(k)], q - tx[size_t(k)]) > eps) return true;
+                        return false;
+                    };
                     if (ball) {
                         const Vec3d o = object_from_world.inverse().point(Vec3d(0, 0, 0));
                         if (ddot(n, DVec3(o.x, o.y, o.z) - c.p0) > 0) {
