@@ -492,7 +492,7 @@ Meter "illuminancegrid" "string name" "floor-indirect" "string component" "indir
     EXPECT_EQ(sol->stats().diffuse_triangles, 12u);
     const double expected = 0.5 * 10000 / (96 * 0.5);
     EXPECT_NEAR(reflected_flux(*sol), 0.5 * 10000 / 0.5, 2e-3 * 0.5 * 10000 / 0.5);
-    MeasureResult r = measure_radiosity(s, *sol, 1e-3);
+    MeasureResult r = measure_radiosity(s, *sol, 4e-4);
     const MeterReading& ind = r.readings[0];
     EXPECT_NEAR(ind.avg, expected, 2e-3 * expected + 3 * ind.avg_stderr);
 }
