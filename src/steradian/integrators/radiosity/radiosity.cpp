@@ -255,7 +255,7 @@ bool radiosity_models_exactly(const Scene& scene, std::string* why) {
         if (const auto* m = std::get_if<TriangleMesh>(&g))
             triangles += uses[si] * m->num_triangles();
         else if (curved_grid(g, nu, nv, p0, p1))
-            triangles += uses[si] * size_t(2 * nu * nv);
+            triangles += uses[si] * size_t(2 * nu * nv - nu * (int(p0) + int(p1)));
     }
     if (triangles > size_t(scene.integrator.radiosity.max_patches))
         return no(fmt::format("{} triangles, more than the radiosity mesh's {} patches",
@@ -324,7 +324,8 @@ int RadiositySolution::coarse_at(const SurfaceHit& h, double& b1, double& b2) co
         return ci;
     }
     // A curved shape: the cell of the hit's (u, v), then the triangle of the cell.
-    const double u = std::clamp(double(h.uv[0]), 0.0, 1.0), v = std::clamp(double(h.uv[1]), 0.0, 1.0);
+    if (!(h.uv[0] >= 0 && h.uv[0] <= 1 && h.uv[1] >= 0 && h.uv[1] <= 1)) return -1;  // NaN too
+    const double u = double(h.uv[0]), v = double(h.uv[1]);
     const int iu = std::min(int(u * s.nu), s.nu - 1), iv = std::min(int(v * s.nv), s.nv - 1);
     int ci = s.first + 2 * (iv * s.nu + iu);
     const Coarse& c0 = m_coarse[size_t(ci)];
@@ -373,10 +374,13 @@ bool RadiositySolution::side_at(const SurfaceHit& h, int& u, double& b1, double&
     if (leaf < 0) return false;
     const Patch& p = m_patches[size_t(leaf)];
     if (area) *area = p.area;
-    // The side the ray came from, by the hit's own geometric normal (on a curved surface the
+    // The side the ray came from; on a curved surface by the hit's own geometric normal (the
     // patch's chord is tilted against it), oriented as the patch's front.
-    const DVec3 ng(h.ng.x, h.ng.y, h.ng.z);
-    const double side = ddot(DVec3(h.wo), ng) * (ddot(ng, p.n) >= 0 ? 1.0 : -1.0);
+    double side = ddot(DVec3(h.wo), p.n);
+    if (p.surface >= 0) {
+        const DVec3 ng(h.ng.x, h.ng.y, h.ng.z);
+        side = ddot(DVec3(h.wo), ng) * (ddot(ng, p.n) >= 0 ? 1.0 : -1.0);
+    }
     u = p.unknown[side >= 0 ? 0 : 1];
     return true;
 }
@@ -528,12 +532,13 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         return len > 0;
     };
     size_t non_diffuse_instanced = 0;
+    std::vector<char> curve_noted(scene.shapes.size(), 0);
     // Meshes shape si (of instance inst, or -1) into coarse triangles; returns its surface.
     auto mesh_shape = [&](size_t si, int inst) -> int {
         const ShapeEntry& e = scene.shapes[si];
         if (e.material < 0) return -1;
         if (std::holds_alternative<Curves>(e.geometry)) {
-            if (inst <= 0)
+            if (!curve_noted[si]++)
                 st.notes.push_back(fmt::format("shape {} (a curve) is not meshed: it reflects "
                                                "nothing in the radiosity pass", si));
             return -1;
@@ -618,9 +623,16 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     // as everywhere).
     // The inside of a full sphere is closed: only a light or a surface inside it lights it.
     std::vector<DVec3> light_points;
-    bool light_everywhere = false, shape_light = false;
+    bool light_everywhere = false;
+    // Emitting spheres and disks: their centres (and shapes), for what is inside a sphere.
+    std::vector<std::pair<DVec3, const void*>> shape_lights;
     for (const Light& l : scene.lights) {
-        if (const auto* al = std::get_if<DiffuseAreaLight>(&l); al && !al->triangle) shape_light = true;
+        if (const auto* al = std::get_if<DiffuseAreaLight>(&l); al && !al->triangle) {
+            const Transform& w = al->sphere ? al->sphere->world_from_object : al->disk->world_from_object;
+            const Vec3d o = w.point(Vec3d(0, 0, al->sphere ? 0.0 : double(al->disk->height)));
+            shape_lights.push_back({DVec3(o.x, o.y, o.z),
+                                    al->sphere ? static_cast<const void*>(al->sphere) : al->disk});
+        }
         if (const auto* pl = std::get_if<PointLight>(&l))
             light_points.push_back(DVec3(pl->p));
         else if (const auto* sl = std::get_if<SpotLight>(&l))
@@ -690,9 +702,11 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                                 return std::sqrt(qo.x * qo.x + qo.y * qo.y + qo.z * qo.z) <
                                        double(ball->radius) * (1 - 1e-9);
                             };
-                            bool act = shape_light;
+                            bool act = false;
                             for (size_t k = 0; k < light_points.size() && !act; ++k)
                                 act = inside(light_points[k]);
+                            for (size_t k = 0; k < shape_lights.size() && !act; ++k)
+                                act = shape_lights[k].second != ball && inside(shape_lights[k].first);
                             for (size_t b = 0; b < diffuse.size() && !act; ++b) {
                                 const auto& o2 = S.m_coarse[diffuse[b]];
                                 if (o2.shape == c.shape && o2.instance == c.instance) continue;
@@ -850,7 +864,10 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         auto& c = S.m_coarse[i];
         if (c.root < 0) continue;
         ++st.diffuse_triangles;
-        c.root = add_node({c.p0, c.p0 + c.e1, c.p0 + c.e2}, Bary{{{0, 0}, {1, 0}, {0, 1}}}, int(i), 0);
+        const Tri root = c.curved() ? Tri{curved_point(scene, c, 0, 0), curved_point(scene, c, 1, 0),
+                                          curved_point(scene, c, 0, 1)}
+                                    : Tri{c.p0, c.p0 + c.e1, c.p0 + c.e2};
+        c.root = add_node(root, Bary{{{0, 0}, {1, 0}, {0, 1}}}, int(i), 0);
         const int lv = (active[i][0] || active[i][1]) ? level_for(i, h) : 0;
         std::vector<int> stack{c.root};
         while (!stack.empty()) {
@@ -944,6 +961,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         }
         double global = 0, garea = 0;
         for (size_t li = 0; li < nl; ++li) {
+            if (S.m_coarse[size_t(node_coarse[size_t(leaves[li])])].curved()) continue;  // not sampled
             const Tri t = node_tri[size_t(leaves[li])];
             const double a = tri_area(t.b - t.a, t.c - t.a);
             global += mean[li] * a;
@@ -1029,6 +1047,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             p.area = area;
         }
         p.material = scene.shapes[size_t(S.m_coarse[size_t(ci)].shape)].material;
+        p.surface = co.curved() ? co.surface : -1;
         const int pi = int(S.m_patches.size());
         S.m_nodes[size_t(nd)].patch = pi;
         for (int side = 0; side < 2; ++side) {
@@ -1139,7 +1158,11 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     // Visibility as the gather and the path tracer's continued paths see it: through
     // "interface" surfaces (a luminous opening, a medium boundary), which scatter nothing.
     bool has_interface = false;
-    for (const ShapeEntry& e : scene.shapes) has_interface = has_interface || e.material < 0;
+    for (int si : scene.top_level_shapes)
+        has_interface = has_interface || scene.shapes[size_t(si)].material < 0;
+    for (const Instance& inst : scene.instances)
+        for (int si : scene.prototypes[size_t(inst.prototype)].shapes)
+            has_interface = has_interface || scene.shapes[size_t(si)].material < 0;
     const radiosity::Visibility visible = [&](DVec3 o, DVec3 t) {
         const Ray ray{o.f(), (t - o).f(), 1 - Float(1e-4)};
         return has_interface ? !scene.occluded_by_surface(ray) : !scene.occluded(ray);
@@ -1486,9 +1509,15 @@ void write_radiosity_ply(const RadiositySolution& sol, const std::string& path) 
         const DVec3 n = P[i].unknown[0] >= 0 ? P[i].n : P[i].n * -1.0;
         for (int c = 0; c < 3; ++c) {
             const DVec3 v = P[i].p[size_t(c)];
-            const Key k{std::llround(v.x / qs), std::llround(v.y / qs), std::llround(v.z / qs),
-                        std::llround(n.x * 1e6), std::llround(n.y * 1e6), std::llround(n.z * 1e6),
-                        std::llround(ddot(n, v) / (1e3 * qs)), P[i].material};
+            // A curved shape's patches: the same shape (and instance) and side, not plane.
+            const Key k =
+                P[i].surface >= 0
+                    ? Key{std::llround(v.x / qs), std::llround(v.y / qs), std::llround(v.z / qs),
+                          P[i].unknown[0] >= 0 ? 0 : 1, P[i].surface, 0,
+                          std::numeric_limits<int64_t>::min(), P[i].material}
+                    : Key{std::llround(v.x / qs), std::llround(v.y / qs), std::llround(v.z / qs),
+                          std::llround(n.x * 1e6), std::llround(n.y * 1e6), std::llround(n.z * 1e6),
+                          std::llround(ddot(n, v) / (1e3 * qs)), P[i].material};
             corner[3 * i + size_t(c)] = index.emplace(k, int(index.size())).first->second;
         }
     }

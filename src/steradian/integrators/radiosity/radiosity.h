@@ -63,6 +63,7 @@ public:
         double area = 0;
         int unknown[2] = {-1, -1};  ///< front and back side (-1: not in the system)
         int material = -1;          ///< the scene material of its triangle
+        int surface = -1;           ///< on a curved shape: which one (per instance); else -1
     };
     /// Reflected exitance at a hit of the scene, at the wavelengths lambda; false if the hit
     /// is not on a meshed (diffuse) surface.
