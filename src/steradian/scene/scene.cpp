@@ -42,4 +42,19 @@ unsigned Scene::occluded_by_surface_packet(const Ray* rays, unsigned active) con
     return m_accel->occluded_by_surface_packet(rays, active);
 }
 
+Occluder::Occluder(const GeometryView& geometry) : m_accel(std::make_unique<Accel>(geometry)) {}
+Occluder::~Occluder() = default;
+
+bool Occluder::occluded(const Ray& ray) const { return m_accel->occluded(ray); }
+
+unsigned Occluder::occluded_packet(const Ray* rays, unsigned active) const {
+    return m_accel->occluded_packet(rays, active);
+}
+
+bool Occluder::occluded_by_surface(const Ray& ray) const { return m_accel->occluded_by_surface(ray); }
+
+unsigned Occluder::occluded_by_surface_packet(const Ray* rays, unsigned active) const {
+    return m_accel->occluded_by_surface_packet(rays, active);
+}
+
 }  // namespace sr

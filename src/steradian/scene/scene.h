@@ -175,4 +175,23 @@ private:
     std::unique_ptr<Accel> m_accel;
 };
 
+/// Occlusion by other geometry than a scene's, in an acceleration structure of its own: the
+/// radiosity pass traces its form-factor rays against its patches' chords of curved shapes
+/// (docs/radiosity.md). The vectors the view refers to must outlive it.
+class Occluder {
+public:
+    explicit Occluder(const GeometryView& geometry);
+    ~Occluder();
+    Occluder(const Occluder&) = delete;
+    Occluder& operator=(const Occluder&) = delete;
+    /// As Scene's functions of the same names.
+    bool occluded(const Ray& ray) const;
+    unsigned occluded_packet(const Ray* rays, unsigned active) const;
+    bool occluded_by_surface(const Ray& ray) const;
+    unsigned occluded_by_surface_packet(const Ray* rays, unsigned active) const;
+
+private:
+    std::unique_ptr<Accel> m_accel;
+};
+
 }  // namespace sr

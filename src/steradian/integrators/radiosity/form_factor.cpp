@@ -156,7 +156,7 @@ double exchange(const PatchGeom& a, const PatchGeom& b, double eps, const Visibi
     if (r.diam < 0.3 * dist_rs) {
         if (visible) {
             if (rays) ++*rays;
-            if (!visible(r.origin(r.c, eps), s.origin(s.c, eps))) return 0;
+            if (!visible(r.c + r.n * eps, s.c + s.n * eps)) return 0;
         }
         const TriangleRule& rule = triangle_rule(2);
         // A source whose size is under a tenth of the distance: its form factor from each
@@ -214,7 +214,7 @@ double exchange(const PatchGeom& a, const PatchGeom& b, double eps, const Visibi
                 const auto& bv = vis_rule.b[size_t(q_index % vis_rule.count)];
                 const DVec3 y = s.v[0] * bv[0] + s.v[1] * bv[1] + s.v[2] * bv[2];
                 if (rays) ++*rays;
-                if (!visible(r.origin(x, eps), s.origin(y, eps))) continue;
+                if (!visible(x + r.n * eps, y + s.n * eps)) continue;
             }
             F += rule.w[size_t(q)] * sub_w * f;
         }

@@ -55,12 +55,6 @@ struct PatchGeom {
     std::array<DVec3, 3> v;
     DVec3 c, n;
     double area = 0, diam = 0;
-    /// How far the surface it stands for may lie in front of it: 0 for a flat surface; for
-    /// a chord of a convex curved surface seen from outside, the chord's sagitta (with a
-    /// margin). Rays leave the side from that far in front, so that they clear the surface.
-    double lift = 0;
-    /// The origin of a ray leaving the side from its point x.
-    DVec3 origin(DVec3 x, double eps) const { return x + n * (eps + lift); }
 };
 PatchGeom make_patch(DVec3 a, DVec3 b, DVec3 c, bool flip = false);
 

@@ -41,10 +41,10 @@ double visible_fraction(const PatchGeom& a, const PatchGeom& b, uint64_t key, do
             const uint64_t i = uint64_t(i0 + j);
             const auto ba = sample_uniform_triangle(r2(i, key));
             const auto bb = sample_uniform_triangle(r2(i, ~key));
-            from[j] = a.origin(a.v[0] * double(ba[0]) + a.v[1] * double(ba[1]) +
-                                   a.v[2] * double(ba[2]), eps);
-            to[j] = b.origin(b.v[0] * double(bb[0]) + b.v[1] * double(bb[1]) +
-                                 b.v[2] * double(bb[2]), eps);
+            from[j] = a.v[0] * double(ba[0]) + a.v[1] * double(ba[1]) + a.v[2] * double(ba[2]) +
+                      a.n * eps;
+            to[j] = b.v[0] * double(bb[0]) + b.v[1] * double(bb[1]) + b.v[2] * double(bb[2]) +
+                    b.n * eps;
         }
         rays += uint64_t(m);
         if (batch) {

@@ -64,7 +64,6 @@ struct Unknown {
     DVec3 c, n;  ///< centroid, side normal
     std::array<DVec3, 3> v;
     double area = 0, diam = 0;
-    double lift = 0;  ///< PatchGeom::lift
 };
 
 /// Direct irradiance arriving at point x (side normal n) from every light, one light sample
@@ -806,7 +805,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     std::vector<Bary> node_bary;
     std::vector<int> node_coarse;
     std::vector<int> node_level;
-    std::vector<std::array<double, 2>> node_lift;  // per side (PatchGeom::lift)
     // The normal of a node's chord (its front side: the coarse triangle's winding).
     auto tri_normal = [](const Tri& t) {
         const DVec3 cr = dcross(t.b - t.a, t.c - t.a);
@@ -819,23 +817,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         node_bary.push_back(bary);
         node_coarse.push_back(coarse);
         node_level.push_back(level);
-        std::array<double, 2> lift{0, 0};
-        const auto& c = S.m_coarse[size_t(coarse)];
-        if (c.curved()) {
-            // How far the true surface lies in front of the chord, at its centroid and edge
-            // midpoints (a sphere's cap is highest near the centroid), with a margin of half.
-            const DVec3 n = tri_normal(t);
-            constexpr double at[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}};
-            for (const auto& w : at) {
-                const double b1 = w[0] * bary[0][0] + w[1] * bary[1][0] + w[2] * bary[2][0];
-                const double b2 = w[0] * bary[0][1] + w[1] * bary[1][1] + w[2] * bary[2][1];
-                const DVec3 chord = t.a * w[0] + t.b * w[1] + t.c * w[2];
-                const double d = ddot(n, curved_point(scene, c, b1, b2) - chord);
-                lift[0] = std::max(lift[0], 1.5 * d);
-                lift[1] = std::max(lift[1], -1.5 * d);
-            }
-        }
-        node_lift.push_back(lift);
         return int(S.m_nodes.size()) - 1;
     };
     auto split = [&](int node) {
@@ -942,7 +923,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                     const DVec3 pts[4] = {g, t.a + (g - t.a) * 0.02, t.b + (g - t.b) * 0.02,
                                           t.c + (g - t.c) * 0.02};
                     for (int k = 0; k < 4; ++k) {
-                        const double y = photopic_direct(pts[k] + ns * (eps + node_lift[size_t(nd)][size_t(side)]), ns,
+                        const double y = photopic_direct(pts[k] + ns * eps, ns,
                                                          hash(uint64_t(nd), uint64_t(k), uint64_t(side)));
                         lo = std::min(lo, y);
                         hi = std::max(hi, y);
@@ -1059,7 +1040,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             u.c = (t.a + t.b + t.c) * (1.0 / 3);
             u.n = side == 0 ? p.n : p.n * -1.0;
             u.area = chord_area;  // the solve's: the chords' form factors' area
-            u.lift = node_lift[size_t(nd)][size_t(side)];
             u.diam = longest(t.a, t.b, t.c);
             p.unknown[side] = int(U.size());
             U.push_back(u);
@@ -1163,16 +1143,110 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     for (const Instance& inst : scene.instances)
         for (int si : scene.prototypes[size_t(inst.prototype)].shapes)
             has_interface = has_interface || scene.shapes[size_t(si)].material < 0;
+    // With curved shapes, the form factors' rays are traced against the patches' own chords
+    // (an acceleration structure of the scene with each meshed curved shape replaced by its
+    // patches' triangles, in world space), not against the true surfaces: the solve's world
+    // is then one consistent polyhedron. Against the true surfaces, rays between other
+    // patches were stopped by silhouettes larger than the chords' that the shapes exchange
+    // light with, and that light was lost.
+    std::vector<ShapeEntry> chord_shapes;
+    std::vector<int> chord_top;
+    std::vector<Prototype> chord_protos;
+    std::vector<Instance> chord_instances;
+    std::unique_ptr<Occluder> chord_occluder;
+    {
+        auto chords_of = [&](int sf_index) {
+            const auto& sf = S.m_surfaces[size_t(sf_index)];
+            std::vector<Point3> P;
+            std::vector<uint32_t> I;
+            for (int k = sf.first; k < sf.first + 2 * sf.nu * sf.nv; ++k) {
+                const auto& c = S.m_coarse[size_t(k)];
+                std::vector<int> stack;
+                if (c.root >= 0) stack.push_back(c.root);
+                else if (dlength(dcross(c.e1, c.e2)) > 0) {  // not meshed: its coarse chord
+                    for (const DVec3& q : {c.p0, c.p0 + c.e1, c.p0 + c.e2}) {
+                        I.push_back(uint32_t(P.size()));
+                        P.push_back(Point3(q.f()));
+                    }
+                }
+                while (!stack.empty()) {
+                    const int nd = stack.back();
+                    stack.pop_back();
+                    if (S.m_nodes[size_t(nd)].child >= 0) {
+                        for (int ch = 0; ch < 4; ++ch) stack.push_back(S.m_nodes[size_t(nd)].child + ch);
+                        continue;
+                    }
+                    const Tri& t = node_tri[size_t(nd)];
+                    for (const DVec3& q : {t.a, t.b, t.c}) {
+                        I.push_back(uint32_t(P.size()));
+                        P.push_back(Point3(q.f()));
+                    }
+                }
+            }
+            const auto& c0 = S.m_coarse[size_t(sf.first)];
+            ShapeEntry e = scene.shapes[size_t(c0.shape)];
+            e.alpha = nullptr;
+            e.light_offset = -1;
+            TriangleMesh mesh;
+            P.push_back(Point3(0, 0, 0));  // Embree reads up to 16 bytes past the last vertex
+            mesh.p = std::make_shared<std::vector<Point3>>(std::move(P));
+            mesh.indices = std::make_shared<std::vector<uint32_t>>(std::move(I));
+            e.geometry = std::move(mesh);
+            chord_shapes.push_back(std::move(e));
+            return int(chord_shapes.size()) - 1;
+        };
+        auto curved_surface = [&](int sf) { return sf >= 0 && S.m_surfaces[size_t(sf)].nu > 0; };
+        bool any = false;
+        for (size_t k = 0; k < S.m_surfaces.size() && !any; ++k) any = curved_surface(int(k));
+        if (any) {
+            chord_shapes = scene.shapes;
+            for (int si : scene.top_level_shapes)
+                chord_top.push_back(curved_surface(S.m_shape_surface[size_t(si)])
+                                        ? chords_of(S.m_shape_surface[size_t(si)])
+                                        : si);
+            // Prototypes without their meshed curved shapes; those go to the top level, per
+            // instance.
+            std::vector<int> proto_index(scene.prototypes.size(), -1);
+            for (size_t ii = 0; ii < scene.instances.size(); ++ii) {
+                const int pi = scene.instances[ii].prototype;
+                const Prototype& pr = scene.prototypes[size_t(pi)];
+                std::vector<int> kept;
+                for (size_t k = 0; k < pr.shapes.size(); ++k) {
+                    const int sf = S.m_instance_surface[size_t(S.m_instance_base[ii]) + k];
+                    if (curved_surface(sf))
+                        chord_top.push_back(chords_of(sf));
+                    else
+                        kept.push_back(pr.shapes[k]);
+                }
+                if (kept.empty()) continue;
+                if (proto_index[size_t(pi)] < 0) {
+                    proto_index[size_t(pi)] = int(chord_protos.size());
+                    chord_protos.push_back(Prototype{pr.name, kept});
+                }
+                chord_instances.push_back(
+                    Instance{proto_index[size_t(pi)], scene.instances[ii].world_from_instance});
+            }
+            chord_occluder = std::make_unique<Occluder>(
+                GeometryView{chord_shapes, chord_top, chord_protos, chord_instances, 0});
+        }
+    }
     const radiosity::Visibility visible = [&](DVec3 o, DVec3 t) {
         const Ray ray{o.f(), (t - o).f(), 1 - Float(1e-4)};
+        if (chord_occluder)
+            return has_interface ? !chord_occluder->occluded_by_surface(ray) : !chord_occluder->occluded(ray);
         return has_interface ? !scene.occluded_by_surface(ray) : !scene.occluded(ray);
     };
     const radiosity::VisibilityBatch visible_batch = [&](const DVec3* o, const DVec3* t, int n) {
         Ray packet[Scene::kRayPacket];
         for (int i = 0; i < n; ++i) packet[i] = Ray{o[i].f(), (t[i] - o[i]).f(), 1 - Float(1e-4)};
         const unsigned bits = (1u << n) - 1;
-        const unsigned blocked = has_interface ? scene.occluded_by_surface_packet(packet, bits)
-                                               : scene.occluded_packet(packet, bits);
+        unsigned blocked = 0;
+        if (chord_occluder)
+            blocked = has_interface ? chord_occluder->occluded_by_surface_packet(packet, bits)
+                                    : chord_occluder->occluded_packet(packet, bits);
+        else
+            blocked = has_interface ? scene.occluded_by_surface_packet(packet, bits)
+                                    : scene.occluded_packet(packet, bits);
         return bits & ~blocked;
     };
     S.m_B.assign(N * kBands, 0.f);
@@ -1189,7 +1263,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         auto build = [&](auto&& self, int nd, int side, size_t at) -> void {
             const Tri t = node_tri[size_t(nd)];
             hn[at].g = radiosity::make_patch(t.a, t.b, t.c, side == 1);
-            hn[at].g.lift = node_lift[size_t(nd)][size_t(side)];
             const int ch = S.m_nodes[size_t(nd)].child;
             if (ch < 0) {
                 hn[at].unknown = S.m_patches[size_t(S.m_nodes[size_t(nd)].patch)].unknown[side];
@@ -1243,7 +1316,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
     for (size_t u = 0; u < N; ++u) {
         const auto& v = U[u].v;
         G[u] = radiosity::make_patch(v[0], v[1], v[2], U[u].side == 1);
-        G[u].lift = U[u].lift;
     }
     std::atomic<uint64_t> pairs{0};
     arena.execute([&] {
