@@ -618,19 +618,32 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
 
     // ---- which sides can receive light --------------------------------------------------------
     // A side is active if a light or a point of another diffuse triangle lies strictly in
-    // front of it (infinite and distant lights, and area lights on spheres and disks, count
-    // as everywhere).
+    // front of it (infinite and distant lights count as everywhere; an emitting sphere or
+    // disk if any of its bounding ball is in front).
     // The inside of a full sphere is closed: only a light or a surface inside it lights it.
     std::vector<DVec3> light_points;
     bool light_everywhere = false;
-    // Emitting spheres and disks: their centres (and shapes), for what is inside a sphere.
-    std::vector<std::pair<DVec3, const void*>> shape_lights;
+    // Emitting spheres and disks: their bounding balls' centres and radii, and their shapes
+    // (what is inside a sphere).
+    struct LightBall {
+        DVec3 c;
+        double r = 0;
+        const void* shape = nullptr;
+    };
+    std::vector<LightBall> shape_lights;
     for (const Light& l : scene.lights) {
         if (const auto* al = std::get_if<DiffuseAreaLight>(&l); al && !al->triangle) {
             const Transform& w = al->sphere ? al->sphere->world_from_object : al->disk->world_from_object;
-            const Vec3d o = w.point(Vec3d(0, 0, al->sphere ? 0.0 : double(al->disk->height)));
-            shape_lights.push_back({DVec3(o.x, o.y, o.z),
-                                    al->sphere ? static_cast<const void*>(al->sphere) : al->disk});
+            const double r = al->sphere ? double(al->sphere->radius) : double(al->disk->radius);
+            const double h = al->sphere ? 0.0 : double(al->disk->height);
+            const Vec3d o = w.point(Vec3d(0, 0, h));
+            LightBall b{DVec3(o.x, o.y, o.z), 0, al->sphere ? static_cast<const void*>(al->sphere) : al->disk};
+            for (int k = 0; k < 8; ++k) {  // the object-space box's corners
+                const Vec3d q = w.point(Vec3d(k & 1 ? r : -r, k & 2 ? r : -r, al->sphere ? (k & 4 ? r : -r) : h));
+                b.r = std::max(b.r, dlength(DVec3(q.x, q.y, q.z) - b.c));
+            }
+            shape_lights.push_back(b);
+            continue;
         }
         if (const auto* pl = std::get_if<PointLight>(&l))
             light_points.push_back(DVec3(pl->p));
@@ -705,7 +718,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                             for (size_t k = 0; k < light_points.size() && !act; ++k)
                                 act = inside(light_points[k]);
                             for (size_t k = 0; k < shape_lights.size() && !act; ++k)
-                                act = shape_lights[k].second != ball && inside(shape_lights[k].first);
+                                act = shape_lights[k].shape != ball && inside(shape_lights[k].c);
                             for (size_t b = 0; b < diffuse.size() && !act; ++b) {
                                 const auto& o2 = S.m_coarse[diffuse[b]];
                                 if (o2.shape == c.shape && o2.instance == c.instance) continue;
@@ -718,6 +731,14 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                     bool act = light_everywhere;
                     for (size_t k = 0; k < light_points.size() && !act; ++k)
                         act = in_front(light_points[k]);
+                    // A ball is partly in front of a plane if its centre is less than its
+                    // radius behind it.
+                    for (size_t k = 0; k < shape_lights.size() && !act; ++k) {
+                        const auto& lb = shape_lights[k];
+                        act = ddot(n, lb.c - c.p0) > eps - lb.r;
+                        for (int j = 0; j < nt && !act; ++j)
+                            act = sgn * ddot(tn[size_t(j)], lb.c - tx[size_t(j)]) > eps - lb.r;
+                    }
                     for (size_t b = 0; b < diffuse.size() && !act; ++b) {
                         if (b == a) continue;
                         const auto& o = S.m_coarse[diffuse[b]];
