@@ -677,6 +677,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                             scene.instances[size_t(c.instance)].world_from_instance * object_from_world;
                     object_from_world = object_from_world.inverse();
                 }
+                const Vec3d centre = ball ? object_from_world.inverse().point(Vec3d(0, 0, 0)) : Vec3d(0, 0, 0);
                 // A curved coarse triangle's surface turns by up to 45 degrees: a point lies in
                 // front of it if it lies in front of its tangent plane at a corner, an edge's
                 // midpoint or the centroid (the chord's own plane would miss what sees only a
@@ -705,28 +706,25 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                             if (sgn * ddot(tn[size_t(k)], q - tx[size_t(k)]) > eps) return true;
                         return false;
                     };
-                    if (ball) {
-                        const Vec3d o = object_from_world.inverse().point(Vec3d(0, 0, 0));
-                        if (ddot(n, DVec3(o.x, o.y, o.z) - c.p0) > 0) {
-                            // The inside of a closed sphere.
-                            auto inside = [&](DVec3 q) {
-                                const Vec3d qo = object_from_world.point(Vec3d(q.x, q.y, q.z));
-                                return std::sqrt(qo.x * qo.x + qo.y * qo.y + qo.z * qo.z) <
-                                       double(ball->radius) * (1 - 1e-9);
-                            };
-                            bool act = false;
-                            for (size_t k = 0; k < light_points.size() && !act; ++k)
-                                act = inside(light_points[k]);
-                            for (size_t k = 0; k < shape_lights.size() && !act; ++k)
-                                act = shape_lights[k].shape != ball && inside(shape_lights[k].c);
-                            for (size_t b = 0; b < diffuse.size() && !act; ++b) {
-                                const auto& o2 = S.m_coarse[diffuse[b]];
-                                if (o2.shape == c.shape && o2.instance == c.instance) continue;
-                                act = inside(o2.p0) || inside(o2.p0 + o2.e1) || inside(o2.p0 + o2.e2);
-                            }
-                            active[diffuse[a]][size_t(side)] = act;
-                            continue;
+                    if (ball && ddot(n, DVec3(centre.x, centre.y, centre.z) - c.p0) > 0) {
+                        // The inside of a closed sphere.
+                        auto inside = [&](DVec3 q) {
+                            const Vec3d qo = object_from_world.point(Vec3d(q.x, q.y, q.z));
+                            return std::sqrt(qo.x * qo.x + qo.y * qo.y + qo.z * qo.z) <
+                                   double(ball->radius) * (1 - 1e-9);
+                        };
+                        bool act = false;
+                        for (size_t k = 0; k < light_points.size() && !act; ++k)
+                            act = inside(light_points[k]);
+                        for (size_t k = 0; k < shape_lights.size() && !act; ++k)
+                            act = shape_lights[k].shape != ball && inside(shape_lights[k].c);
+                        for (size_t b = 0; b < diffuse.size() && !act; ++b) {
+                            const auto& o2 = S.m_coarse[diffuse[b]];
+                            if (o2.shape == c.shape && o2.instance == c.instance) continue;
+                            act = inside(o2.p0) || inside(o2.p0 + o2.e1) || inside(o2.p0 + o2.e2);
                         }
+                        active[diffuse[a]][size_t(side)] = act;
+                        continue;
                     }
                     bool act = light_everywhere;
                     for (size_t k = 0; k < light_points.size() && !act; ++k)
@@ -822,6 +820,12 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
         DVec3 a, b, c;
     };
     using Bary = std::array<std::array<double, 2>, 3>;
+    // The coarse triangle's barycentrics (b1, b2) of a node's point at its own (l1, l2).
+    auto in_coarse = [](const Bary& b, double l1, double l2) {
+        const double l0 = 1 - l1 - l2;
+        return std::array<double, 2>{l0 * b[0][0] + l1 * b[1][0] + l2 * b[2][0],
+                                     l0 * b[0][1] + l1 * b[1][1] + l2 * b[2][1]};
+    };
     std::vector<Tri> node_tri;
     std::vector<Bary> node_bary;
     std::vector<int> node_coarse;
@@ -934,8 +938,7 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                 const auto& a = active[size_t(node_coarse[size_t(nd)])];
                 const Tri t = node_tri[size_t(nd)];
                 const DVec3 g = (t.a + t.b + t.c) * (1.0 / 3);
-                const auto& co = S.m_coarse[size_t(node_coarse[size_t(nd)])];
-                const DVec3 n = co.curved() ? tri_normal(t) : co.n;
+                const DVec3 n = S.m_coarse[size_t(node_coarse[size_t(nd)])].n;  // flat only
                 double lo = kInfinity, hi = 0, sum = 0;
                 int cnt = 0;
                 for (int side = 0; side < 2; ++side) {
@@ -1028,9 +1031,8 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             constexpr int K = 8;
             const Bary& b = node_bary[size_t(nd)];
             auto at = [&](int i, int j) {
-                const double x = double(i) / K, y = double(j) / K, w0 = 1 - x - y;
-                return curved_point(scene, co, w0 * b[0][0] + x * b[1][0] + y * b[2][0],
-                                    w0 * b[0][1] + x * b[1][1] + y * b[2][1]);
+                const auto q = in_coarse(b, double(i) / K, double(j) / K);
+                return curved_point(scene, co, q[0], q[1]);
             };
             std::vector<DVec3> grid;
             for (int j = 0; j <= K; ++j)
@@ -1108,7 +1110,6 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
             const auto& rule = radiosity::triangle_rule(5);
             const int ns = std::max(1, prm.direct_samples);
             const bool curved = c.curved();
-            const Bary& nbr = node_bary[size_t(leaves[size_t(u.patch)])];
             // The point at the patch's barycentrics (b0, b1, b2) and its normal: on the chord
             // (weight 1), or on the true surface, weighted by dA_surface / dA_chord there.
             auto point_at = [&](double b0, double b1, double b2, DVec3& x, DVec3& n) {
@@ -1118,9 +1119,8 @@ std::unique_ptr<RadiositySolution> solve_radiosity(const Scene& scene, const Rad
                     return 1.0;
                 }
                 auto cb = [&](double l1, double l2) {
-                    const double l0 = 1 - l1 - l2;
-                    return curved_point(scene, c, l0 * nbr[0][0] + l1 * nbr[1][0] + l2 * nbr[2][0],
-                                        l0 * nbr[0][1] + l1 * nbr[1][1] + l2 * nbr[2][1]);
+                    const auto q = in_coarse(nb, l1, l2);
+                    return curved_point(scene, c, q[0], q[1]);
                 };
                 (void)b0;
                 constexpr double d = 1e-5;
